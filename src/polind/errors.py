@@ -1,0 +1,26 @@
+"""The one exception type for bad input, and its message template.
+
+Every check on user input in polind (model parameters, motion files, system
+files, command-line options) raises :class:`InputError`, a ``ValueError``
+whose message is one line naming the parameter, file, row or key, the value
+received and what was expected.  The command line turns it into exit status
+2 (INTERFACE.md).
+"""
+
+from __future__ import annotations
+
+__all__ = ["InputError", "describe"]
+
+
+class InputError(ValueError):
+    """Bad input: a one-line message names what, where, got and expected."""
+
+    def __init__(self, message: str):
+        # Keep the message on one line whatever the caller built.
+        super().__init__(" ".join(str(message).split()))
+
+
+def describe(value) -> str:
+    """Short printable form of a received value for error messages."""
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."

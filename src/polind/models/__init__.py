@@ -1,0 +1,65 @@
+"""One module per friction model; importing this package registers them all."""
+
+from polind.models.base import MODEL_TYPES, FrictionModel, Path, State
+from polind.models.static import Coulomb, Stribeck
+from polind.models.dahl import Dahl
+from polind.models.lugre import LuGre
+from polind.models.maxwell_slip import MaxwellSlip
+from polind.models.gms import GMS
+from polind.models.leuven import Leuven
+
+__all__ = ["MODEL_TYPES", "FrictionModel", "Path", "State", "Coulomb", "Stribeck", "Dahl",
+           "LuGre", "MaxwellSlip", "GMS", "Leuven"]
+
+from polind.errors import InputError as _InputError
+from polind.errors import describe as _describe
+
+
+def model_from_dict(document: dict) -> FrictionModel:
+    """Build a model from a model-file document ``{"model": {"type": ..., ...}}``.
+
+    The bare ``[model]`` table (a dict with a ``type`` key) is accepted too.
+    A ``fit`` table beside ``model`` is allowed and ignored here (see
+    :func:`polind.identify`).  Bad parameters raise :class:`polind.InputError`
+    naming the key.
+    """
+    if not isinstance(document, dict):
+        raise _InputError(f"A model must be a table. Got {_describe(document)} instead.")
+    if "type" in document and "model" not in document:
+        table = document
+    else:
+        unknown = sorted(set(document) - {"model", "fit"})
+        if unknown:
+            raise _InputError(f"Unknown top-level key '{unknown[0]}' in a model document; "
+                              f"expected 'model' and optionally 'fit'.")
+        if "model" not in document:
+            raise _InputError("A model document needs a [model] table.")
+        table = document["model"]
+    if not isinstance(table, dict):
+        raise _InputError(f"The [model] table must be a table. Got {_describe(table)} instead.")
+    if "type" not in table:
+        raise _InputError("Missing key 'type' in the [model] table; expected one of: "
+                          + ", ".join(sorted(MODEL_TYPES)) + ".")
+    model_type = table["type"]
+    if model_type not in MODEL_TYPES:
+        raise _InputError(f"Unknown model type {_describe(model_type)} for key 'type'; expected "
+                          "one of: " + ", ".join(sorted(MODEL_TYPES)) + ".")
+    params = {key: value for key, value in table.items() if key != "type"}
+    return MODEL_TYPES[model_type](**params)
+
+
+def load_model(path) -> FrictionModel:
+    """Read a model file (TOML, or JSON with the same structure) and build the model.
+
+    Errors name the file: ``model.toml: Unknown key 'stifness' ...``.
+    """
+    from polind import io
+
+    document = io.read_model_file(path)
+    try:
+        return model_from_dict(document)
+    except _InputError as error:
+        raise _InputError(f"{path}: {error}") from None
+
+
+__all__ += ["model_from_dict", "load_model"]

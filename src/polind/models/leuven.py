@@ -1,0 +1,72 @@
+"""The modified Leuven model (MODELS.md 6) with a Maxwell-slip hysteresis force."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from polind.kernels.single import leuven_run
+from polind.kernels.stribeck import SHAPE_CODES
+from polind.models.base import FrictionModel, register
+from polind.models.params import Param, STRIBECK_PARAMS, VISCOUS, same_length, sums_to
+
+
+@register
+class Leuven(FrictionModel):
+    """Leuven: ``dz/dt = v (1 - sgn(Fh/s)|Fh/s|^n)``, ``F = Fh(z) + sigma1 dz/dt + sigma2 v``.
+
+    ``Fh(z)`` is a Maxwell-slip structure driven by ``z`` (MODELS.md 6,
+    **Choice**), which gives it non-local memory.  The state equation is
+    integrated by backward Euler with a safeguarded Newton solve per step:
+    unconditionally stable, but *approximate*, first order in the step (the
+    error is tested against a fine-step reference in the test suite).  In
+    presliding (``|Fh| << s(v)``) ``z`` follows ``x`` and ``Fh`` is the
+    Maxwell-slip force of the displacement, exactly.
+
+    Parameters
+    ----------
+    stiffness : list of float
+        k_i [N/m] of the hysteresis elements.
+    breakaway_force : list of float
+        W_i [N], summing to ``static_force`` within 1e-9.
+    exponent : float
+        n > 0 of the state equation.
+    bristle_damping : float
+        sigma1 [N s/m], non-negative.
+    viscous_coefficient : float, default 0
+        sigma2 [N s/m].
+    coulomb_force, static_force, stribeck_velocity, stribeck_exponent, stribeck_shape
+        The Stribeck curve s(v) = sgn(v) g(v) (MODELS.md 0).
+    """
+
+    type = "leuven"
+    parameters = (
+        Param("stiffness", kind="list", unit="N/m"),
+        Param("breakaway_force", kind="list", unit="N"),
+        Param("exponent"),
+        Param("bristle_damping", bound="nonnegative", unit="N s/m"),
+        VISCOUS,
+    ) + STRIBECK_PARAMS
+
+    @classmethod
+    def _check(cls, params):
+        same_length(cls.type, params, ("stiffness", "breakaway_force"))
+        sums_to(cls.type, params, "breakaway_force", params["static_force"],
+                "static_force")
+
+    def initial_variables(self, normal_load=None):
+        return {"element_force": np.zeros(len(self._params["stiffness"])),
+                "deflection": np.zeros(1), "deflection_rate": np.zeros(1)}
+
+    def _advance(self, path, state, normal_load):
+        p = self._params
+        out = np.empty(path.t.shape[0])
+        z_and_rate = np.concatenate([state.variables["deflection"],
+                                     state.variables["deflection_rate"]])
+        leuven_run(path.step, path.step_velocity, path.sample_velocity, self._array("stiffness"),
+                   self._array("breakaway_force"), p["exponent"], p["bristle_damping"],
+                   p["coulomb_force"], p["static_force"], p["stribeck_velocity"],
+                   p["stribeck_exponent"], SHAPE_CODES[p["stribeck_shape"]],
+                   state.variables["element_force"], z_and_rate, out)
+        state.variables["deflection"][0] = z_and_rate[0]
+        state.variables["deflection_rate"][0] = z_and_rate[1]
+        return out + p["viscous_coefficient"] * path.sample_velocity

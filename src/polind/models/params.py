@@ -1,0 +1,175 @@
+"""Parameters declared as data and checked in one place (INTERFACE.md model files).
+
+Each model lists its :class:`Param` entries; :func:`validate_table` checks a
+``[model]`` table against them and builds every error message from one
+template, e.g. ``The 'stiffness' parameter of maxwell-slip must be positive.
+Got -3.0 at index 2.``  Nested tables (the Pol-Ind ``surface``, ``materials``
+and ``discretisation``) are declared with :class:`Table` and named with a dot
+(``surface.height_std``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from polind.errors import InputError, describe
+
+REQUIRED = object()
+
+_BOUNDS = {
+    "positive": (lambda x: x > 0.0, "positive"),
+    "nonnegative": (lambda x: x >= 0.0, "non-negative"),
+    "any": (lambda x: True, "finite"),
+    "poisson": (lambda x: -1.0 < x < 0.5, "in the range (-1, 0.5)"),
+    "fraction": (lambda x: 0.0 < x <= 1.0, "in the range (0, 1]"),
+}
+
+
+@dataclass(frozen=True)
+class Param:
+    """One key of a model table.
+
+    kind: ``"float"``, ``"int"``, ``"list"`` (non-empty list of floats),
+    ``"pair"`` (a list of exactly two floats), ``"str"`` or ``"path"``.
+    """
+
+    key: str
+    kind: str = "float"
+    bound: str = "positive"
+    default: object = REQUIRED
+    choices: tuple = ()
+    unit: str = ""
+
+
+@dataclass(frozen=True)
+class Table:
+    """A nested table of parameters (``[model.surface]``)."""
+
+    key: str
+    entries: tuple
+    default: object = REQUIRED
+
+
+@dataclass
+class _Context:
+    model_type: str
+    prefix: str = ""
+
+    def name(self, key):
+        return f"{self.prefix}{key}"
+
+    def fail(self, key, expected, value, where=""):
+        raise InputError(f"The '{self.name(key)}' parameter of {self.model_type} must be "
+                         f"{expected}. Got {describe(value)}{where} instead.")
+
+
+def _number(ctx, key, value, integer=False, index=None):
+    where = "" if index is None else f" at index {index}"
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        ctx.fail(key, "an integer" if integer else "a number", value, where)
+    if integer and not float(value).is_integer():
+        ctx.fail(key, "an integer", value, where)
+    number = float(value)
+    if not math.isfinite(number):
+        ctx.fail(key, "finite", value, where)
+    return number
+
+
+def _check_bound(ctx, param, number, index=None):
+    test, text = _BOUNDS[param.bound]
+    if not test(number):
+        where = "" if index is None else f" at index {index}"
+        ctx.fail(param.key, text, number, where)
+
+
+def _validate_value(ctx, param, value):
+    if param.kind in ("str", "path"):
+        if not isinstance(value, str) or not value:
+            ctx.fail(param.key, "a non-empty string", value)
+        if param.choices and value not in param.choices:
+            ctx.fail(param.key, "one of " + ", ".join(repr(c) for c in param.choices), value)
+        return value
+    if param.kind in ("list", "pair"):
+        if isinstance(value, np.ndarray):
+            value = value.tolist()
+        if not isinstance(value, (list, tuple)):
+            ctx.fail(param.key, "a list of numbers", value)
+        if len(value) == 0:
+            ctx.fail(param.key, "a non-empty list", value)
+        if param.kind == "pair" and len(value) != 2:
+            ctx.fail(param.key, "a list of two numbers (one per body)", value)
+        numbers = []
+        for index, item in enumerate(value):
+            number = _number(ctx, param.key, item, index=index)
+            _check_bound(ctx, param, number, index)
+            numbers.append(number)
+        return numbers
+    number = _number(ctx, param.key, value, integer=param.kind == "int")
+    _check_bound(ctx, param, number)
+    return int(number) if param.kind == "int" else number
+
+
+def validate_table(model_type, entries, table, prefix=""):
+    """Check ``table`` against the declared ``entries``; return a clean dict.
+
+    Unknown keys, missing required keys, wrong types, non-finite and
+    out-of-range values raise :class:`InputError` naming the key.  Defaults
+    fill the keys that have one.
+    """
+    ctx = _Context(model_type, prefix)
+    if not isinstance(table, dict):
+        raise InputError(f"The '{prefix.rstrip('.') or 'model'}' table of {model_type} must be "
+                         f"a table of parameters. Got {describe(table)} instead.")
+    known = {entry.key: entry for entry in entries}
+    for key in table:
+        if key not in known:
+            allowed = ", ".join(sorted(known))
+            raise InputError(f"Unknown key '{ctx.name(key)}' for a {model_type} model; "
+                             f"expected one of: {allowed}.")
+    clean = {}
+    for entry in entries:
+        if entry.key not in table:
+            if entry.default is REQUIRED:
+                raise InputError(f"Missing key '{ctx.name(entry.key)}' for a {model_type} model.")
+            if entry.default is None:
+                continue
+            value = entry.default
+        else:
+            value = table[entry.key]
+        if isinstance(entry, Table):
+            clean[entry.key] = validate_table(model_type, entry.entries, value,
+                                              prefix=f"{prefix}{entry.key}.")
+        else:
+            clean[entry.key] = _validate_value(ctx, entry, value)
+    return clean
+
+
+def same_length(model_type, table, keys):
+    """Lists of one element set must have equal lengths."""
+    lengths = {key: len(table[key]) for key in keys}
+    if len(set(lengths.values())) > 1:
+        text = ", ".join(f"'{key}' has {n}" for key, n in lengths.items())
+        raise InputError(f"The element lists of {model_type} must have equal lengths; {text}.")
+
+
+def sums_to(model_type, table, key, total, what):
+    """A list that must sum to a given value within 1e-9 (relative)."""
+    value = math.fsum(table[key])
+    if abs(value - total) > 1e-9 * abs(total):
+        raise InputError(f"The '{key}' parameter of {model_type} must sum to {what} "
+                         f"({total!r}) within 1e-9. Got a sum of {value!r} instead.")
+
+
+STRIBECK_PARAMS = (
+    Param("coulomb_force", unit="N"),
+    Param("static_force", unit="N"),
+    Param("stribeck_velocity", unit="m/s"),
+    Param("stribeck_exponent", default=2.0),
+    Param("stribeck_shape", kind="str", default="exponential",
+          choices=("exponential", "rational")),
+)
+
+VISCOUS = Param("viscous_coefficient", bound="nonnegative", default=0.0, unit="N s/m")

@@ -1,0 +1,177 @@
+"""Prescribed motion: :func:`simulate` (INTERFACE.md, Python).
+
+One contract serves every model.  The motion is validated here, cut into
+steps at constant velocity (:class:`~polind.models.base.Path`), and handed
+to the model's kernel; this module owns the bookkeeping (continuation from
+a saved state, the force at the first sample, the final state).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from polind.errors import InputError, describe
+from polind.models import FrictionModel, Path, State
+
+__all__ = ["SimulationResult", "simulate", "as_samples"]
+
+
+@dataclass
+class SimulationResult:
+    """The result of :func:`simulate`: samples and the state to continue from.
+
+    Attributes
+    ----------
+    t, x, v, force : ndarray
+        Time [s], displacement [m], velocity [m/s] and friction force [N] at
+        every sample, float64, same length.
+    normal_load : ndarray or None
+        The normal load [N] used at every sample (Pol-Ind only).
+    final_state : State
+        Pass it as ``state=`` to continue the run.
+    """
+
+    t: np.ndarray
+    x: np.ndarray
+    v: np.ndarray
+    force: np.ndarray
+    final_state: State
+    normal_load: np.ndarray | None = None
+
+
+def as_samples(name, values, length=None, *, positive=False):
+    """A finite 1-D float64 copy of ``values``; InputError naming ``name`` otherwise."""
+    try:
+        array = np.array(values, dtype=np.float64, copy=True)
+    except (TypeError, ValueError):
+        raise InputError(f"The '{name}' samples must be numbers. Got {describe(values)} "
+                         "instead.") from None
+    if array.ndim != 1:
+        raise InputError(f"The '{name}' samples must be a 1-D array. Got shape {array.shape} "
+                         "instead.")
+    if length is not None and array.shape[0] != length:
+        raise InputError(f"The '{name}' samples must have the length of 't' ({length}). "
+                         f"Got {array.shape[0]} instead.")
+    bad = np.flatnonzero(~np.isfinite(array))
+    if bad.size:
+        raise InputError(f"The '{name}' samples must be finite. Got {array[bad[0]]!r} at index "
+                         f"{bad[0]} instead.")
+    if positive:
+        bad = np.flatnonzero(array <= 0.0)
+        if bad.size:
+            raise InputError(f"The '{name}' samples must be positive. Got {array[bad[0]]!r} at "
+                             f"index {bad[0]} instead.")
+    return array
+
+
+def _time(t):
+    t = as_samples("t", t)
+    if t.shape[0] < 2:
+        raise InputError(f"The 't' samples must have at least 2 entries. Got {t.shape[0]} "
+                         "instead.")
+    steps = np.diff(t)
+    bad = np.flatnonzero(steps <= 0.0)
+    if bad.size:
+        k = bad[0] + 1
+        raise InputError(f"The 't' samples must be strictly increasing. Got t[{k}] = {t[k]!r} "
+                         f"after t[{k - 1}] = {t[k - 1]!r}.")
+    return t, steps
+
+
+def make_path(t, x=None, v=None, state=None) -> Path:
+    """Cut a prescribed motion into steps at constant velocity (INTERFACE.md).
+
+    With ``x``: the path is linear between samples; the step ending at
+    sample k has velocity ``(x[k] - x[k-1]) / (t[k] - t[k-1])``, which is
+    also ``v[k]``; ``v[0]`` is the first step's (or, when continuing, the
+    velocity of the state's last step).  With ``v``: each step's velocity is
+    the mean of its end samples and ``x`` the trapezoidal integral from 0 (or
+    from the state's position).
+    """
+    if (x is None) == (v is None):
+        raise InputError("Give exactly one of 'x' (displacement) and 'v' (velocity). Got "
+                         + ("both." if x is not None else "neither."))
+    t, h = _time(t)
+    n = t.shape[0]
+    step = np.concatenate(([0.0], h))
+    if x is not None:
+        x = as_samples("x", x, n)
+        displacement = np.concatenate(([0.0], np.diff(x)))
+        step_velocity = np.concatenate(([0.0], displacement[1:] / h))
+        sample_velocity = step_velocity.copy()
+        sample_velocity[0] = step_velocity[1] if state is None else state.velocity
+    else:
+        sample_velocity = as_samples("v", v, n)
+        step_velocity = np.concatenate(([0.0], 0.5 * (sample_velocity[:-1] + sample_velocity[1:])))
+        displacement = step_velocity * step
+        start = 0.0 if state is None else state.position
+        # Accumulate sequentially from the start so a chunked run adds in the same order.
+        x = np.add.accumulate(np.concatenate(([start], displacement[1:])))
+    return Path(t=t, x=x, step=step, displacement=displacement, step_velocity=step_velocity,
+                sample_velocity=sample_velocity)
+
+
+def simulate(model: FrictionModel, t, x=None, v=None, *, normal_load=None,
+             state: State | None = None) -> SimulationResult:
+    """Simulate a friction model along a prescribed motion.
+
+    Parameters
+    ----------
+    model : FrictionModel
+        From :func:`polind.load_model` or :func:`polind.model_from_dict`;
+        never mutated.
+    t : array_like
+        Sample times [s], strictly increasing, finite, at least 2.
+    x, v : array_like
+        Exactly one: displacement [m] (linear between samples) or velocity
+        [m/s] (trapezoidal).
+    normal_load : array_like, optional
+        Normal load [N] at every sample, positive (``pol-ind`` only; without
+        it the model's constant ``normal_load`` applies).
+    state : State, optional
+        A previous result's ``final_state``.  Start the chunk with the
+        previous chunk's last sample repeated; the force there equals the
+        previous last force, and the split run equals one run (to
+        floating-point reassociation).
+
+    Returns
+    -------
+    SimulationResult
+
+    Examples
+    --------
+    >>> import numpy as np, polind
+    >>> model = polind.model_from_dict({"model": {"type": "dahl", "stiffness": 1e5,
+    ...                                           "coulomb_force": 1.0}})
+    >>> t = np.linspace(0.0, 1.0, 101)
+    >>> res = polind.simulate(model, t, x=1e-4 * t)
+    >>> bool(abs(res.force[-1] - (1 - np.exp(-10.0))) < 1e-12)
+    True
+    """
+    if not isinstance(model, FrictionModel):
+        raise InputError(f"The 'model' must be a polind friction model (load_model or "
+                         f"model_from_dict). Got {describe(model)} instead.")
+    if state is not None:
+        if not isinstance(state, State):
+            raise InputError(f"The 'state' must be a polind State (a result's final_state or "
+                             f"State.from_dict). Got {describe(state)} instead.")
+        model.check_state(state)
+    path = make_path(t, x, v, state)
+    load = None
+    if normal_load is not None:
+        if not model.takes_normal_load:
+            raise InputError(f"A 'normal_load' array applies to the pol-ind model only; the "
+                             f"model is '{model.type}'.")
+        load = as_samples("normal_load", normal_load, path.t.shape[0], positive=True)
+    run_state = state.copy() if state is not None else model.initial_state(load)
+    force = np.asarray(model._advance(path, run_state, load), dtype=np.float64)
+    if state is not None:
+        force[0] = state.force
+    run_state.time = float(path.t[-1])
+    run_state.position = float(path.x[-1])
+    run_state.velocity = float(path.sample_velocity[-1])
+    run_state.force = float(force[-1])
+    return SimulationResult(t=path.t, x=path.x, v=path.sample_velocity, force=force,
+                            final_state=run_state, normal_load=load)
