@@ -1,0 +1,224 @@
+"""The performance benchmark behind ``polind bench`` and ``benchmarks/``.
+
+For each model and element count it times the model's kernel over a
+prescribed path (the hot loop: the element update) and, in the same run,
+the same work done by a plain NumPy loop — the step loop in Python, the
+elements vectorised — and reports element-steps per second and their ratio.
+The NumPy loops are written from MODELS.md, not from the kernels, and their
+forces are compared with the kernel's, so both sides demonstrably do the
+same work.  Times are the best of a few repeats after a warm-up call (which
+also loads numba's cache).
+
+The motion is a sinusoid whose amplitude is large against the element slip
+distances, so the elements cycle through stick and slip and every branch of
+the element law runs.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from polind.models import model_from_dict
+from polind.simulate import make_path
+from polind.models.static import stribeck_curve
+
+ELEMENT_COUNTS = (1, 64, 1024)
+
+_STRIBECK = {"coulomb_force": 1.0, "static_force": 1.5, "stribeck_velocity": 1e-3,
+             "stribeck_exponent": 2.0}
+
+
+@dataclass
+class BenchRow:
+    model: str
+    elements: int
+    steps: int
+    kernel_rate: float      # element-steps per second, numba kernel
+    numpy_rate: float       # element-steps per second, plain NumPy loop
+    max_difference: float   # max |F_kernel - F_numpy| / max |F|
+
+    @property
+    def ratio(self) -> float:
+        return self.kernel_rate / self.numpy_rate
+
+
+def _elements(n, seed=0):
+    rng = np.random.default_rng(seed)
+    stiffness = 10.0 ** rng.uniform(5.0, 7.0, n)
+    slip = 10.0 ** rng.uniform(-7.0, -5.0, n)
+    breakaway = stiffness * slip
+    return stiffness, breakaway
+
+
+def bench_model(model_type, n):
+    """A benchmark model with ``n`` elements (the element count is 1 for single-state models)."""
+    stiffness, breakaway = _elements(n)
+    table = {"type": model_type}
+    if model_type == "maxwell-slip":
+        table.update(stiffness=stiffness.tolist(), breakaway_force=breakaway.tolist())
+    elif model_type == "gms":
+        table.update(stiffness=stiffness.tolist(), weight=(breakaway / breakaway.sum()).tolist(),
+                     attraction=1e4, **_STRIBECK)
+    elif model_type == "leuven":
+        scaled = breakaway * (_STRIBECK["static_force"] / breakaway.sum())
+        table.update(stiffness=stiffness.tolist(), breakaway_force=scaled.tolist(), exponent=2.0,
+                     bristle_damping=10.0, **_STRIBECK)
+    elif model_type == "lugre":
+        table.update(bristle_stiffness=1e5, bristle_damping=316.2, **_STRIBECK)
+    elif model_type == "dahl":
+        table.update(stiffness=1e5, coulomb_force=1.0)
+    elif model_type == "pol-ind":
+        from polind.models.pol_ind import default_table
+        table = default_table()
+        table["discretisation"]["elements"] = n
+    else:
+        raise ValueError(f"no benchmark model for {model_type!r}")
+    return model_from_dict({"model": table})
+
+
+def bench_path(steps, amplitude=2e-5, frequency=2.0, dt=1e-4):
+    t = np.arange(steps) * dt
+    return make_path(t, x=amplitude * np.sin(2.0 * np.pi * frequency * t))
+
+
+# --- plain NumPy references (step loop in Python, elements vectorised) ----------------
+
+def numpy_maxwell_slip(path, stiffness, breakaway):
+    force = np.zeros_like(stiffness)
+    out = np.empty(path.t.shape[0])
+    out[0] = 0.0
+    for k in range(1, path.t.shape[0]):
+        force = np.clip(force + stiffness * path.displacement[k], -breakaway, breakaway)
+        out[k] = force.sum()
+    return out
+
+
+def numpy_gms(path, stiffness, weight, attraction, fc, fs, vs, delta):
+    force = np.zeros_like(stiffness)
+    slip = np.zeros_like(stiffness)
+    out = np.empty(path.t.shape[0])
+    out[0] = 0.0
+    for k in range(1, path.t.shape[0]):
+        v = path.step_velocity[k]
+        if v == 0.0:
+            out[k] = force.sum()
+            continue
+        g = stribeck_curve(v, fc, fs, vs, delta)
+        direction = np.sign(v)
+        capacity = weight * g
+        target = direction * capacity
+        relaxed = target + (force - target) * np.exp(-attraction * path.step[k] / (weight * g))
+        trial = force + stiffness * path.displacement[k]
+        slipping = (slip == direction) | (direction * force >= capacity)
+        crosses = direction * trial >= capacity
+        force = np.where(slipping, relaxed, np.where(crosses, target, trial))
+        slip = np.where(slipping | crosses, direction, 0.0)
+        out[k] = force.sum()
+    return out
+
+
+def numpy_lugre(path, sigma0, sigma1, fc, fs, vs, delta):
+    z = 0.0
+    out = np.empty(path.t.shape[0])
+    for k in range(path.t.shape[0]):
+        if k > 0 and path.step_velocity[k] != 0.0:
+            v = path.step_velocity[k]
+            g = stribeck_curve(v, fc, fs, vs, delta)
+            steady = np.sign(v) * g / sigma0
+            z = steady + (z - steady) * np.exp(-sigma0 * abs(v) * path.step[k] / g)
+        v = path.sample_velocity[k]
+        g = stribeck_curve(v, fc, fs, vs, delta)
+        out[k] = sigma0 * z + sigma1 * (v - sigma0 * abs(v) * z / g)
+    return out
+
+
+def numpy_dahl(path, sigma0, fc):
+    force = 0.0
+    out = np.empty(path.t.shape[0])
+    out[0] = 0.0
+    for k in range(1, path.t.shape[0]):
+        dx = path.displacement[k]
+        if dx != 0.0:
+            s = np.sign(dx)
+            force = s * fc - (s * fc - force) * np.exp(-sigma0 * abs(dx) / fc)
+        out[k] = force
+    return out
+
+
+def _numpy_reference(model, path):
+    p = model.params
+    curve = [p.get(key) for key in ("coulomb_force", "static_force", "stribeck_velocity",
+                                    "stribeck_exponent")]
+    if model.type == "maxwell-slip":
+        return numpy_maxwell_slip(path, np.array(p["stiffness"]), np.array(p["breakaway_force"]))
+    if model.type == "gms":
+        return numpy_gms(path, np.array(p["stiffness"]), np.array(p["weight"]), p["attraction"],
+                         *curve)
+    if model.type == "pol-ind":
+        table = model.element_table()
+        n = p["normal_load"]
+        return numpy_gms(path, table.stiffness, table.weight, p["attraction"],
+                         p["kinetic_coefficient"] * n, p["static_coefficient"] * n,
+                         p["stribeck_velocity"], p["stribeck_exponent"])
+    if model.type == "lugre":
+        return numpy_lugre(path, p["bristle_stiffness"], p["bristle_damping"], *curve)
+    if model.type == "dahl":
+        return numpy_dahl(path, p["stiffness"], p["coulomb_force"])
+    raise ValueError(f"no NumPy reference for {model.type!r}")
+
+
+def _best_time(function, repeats):
+    best = np.inf
+    result = None
+    for _ in range(repeats):
+        start = time.perf_counter()
+        result = function()
+        best = min(best, time.perf_counter() - start)
+    return best, result
+
+
+def run_case(model_type, n, kernel_work=3e8, numpy_seconds=1.0, repeats=3):
+    """Time one model at ``n`` elements; returns a :class:`BenchRow`."""
+    model = bench_model(model_type, n)
+    elements = n if model_type in ("maxwell-slip", "gms", "leuven", "pol-ind") else 1
+    warm = bench_path(64)
+    model._advance(warm, model.initial_state(), None)
+    # Size the kernel run by the work wanted; the NumPy run by time (it is far slower).
+    steps = int(min(max(kernel_work / elements, 2e4), 2e7))
+    path = bench_path(steps)
+    kernel_time, kernel_force = _best_time(
+        lambda: model._advance(path, model.initial_state(), None), repeats)
+    numpy_steps = max(200, min(steps, int(numpy_seconds * 2e5 / max(1.0, elements / 64.0))))
+    short = bench_path(numpy_steps)
+    numpy_time, numpy_force = _best_time(lambda: _numpy_reference(model, short), 1)
+    reference = model._advance(short, model.initial_state(), None)
+    scale = max(np.max(np.abs(numpy_force)), 1e-300)
+    difference = float(np.max(np.abs(reference - numpy_force)) / scale)
+    return BenchRow(model_type, elements, steps, steps * elements / kernel_time,
+                    numpy_steps * elements / numpy_time, difference)
+
+
+def cases(models=None):
+    """The (model, element count) pairs the benchmark runs."""
+    from polind.models import MODEL_TYPES
+
+    element_models = [m for m in ("maxwell-slip", "gms", "pol-ind") if m in MODEL_TYPES]
+    single = ["lugre", "dahl"]
+    chosen = models or element_models + single
+    out = []
+    for model_type in chosen:
+        counts = ELEMENT_COUNTS if model_type in element_models else (1,)
+        out.extend((model_type, n) for n in counts)
+    return out
+
+
+def format_table(rows):
+    lines = [f"{'model':<14}{'elements':>9}{'steps':>11}{'numba el-steps/s':>19}"
+             f"{'NumPy el-steps/s':>19}{'ratio':>9}{'max rel diff':>14}"]
+    for r in rows:
+        lines.append(f"{r.model:<14}{r.elements:>9}{r.steps:>11}{r.kernel_rate:>19.3e}"
+                     f"{r.numpy_rate:>19.3e}{r.ratio:>9.0f}{r.max_difference:>14.1e}")
+    return "\n".join(lines)

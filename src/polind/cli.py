@@ -1,0 +1,208 @@
+"""The ``polind`` command line (INTERFACE.md "Command line"): parsing and printing only.
+
+Each command is one small function registered on the :func:`cli` group; it
+reads its files with :mod:`polind.io`, calls the library, and writes its
+output with an atomic writer.  Commands never print errors or choose exit
+statuses themselves: they raise, and :func:`main` turns what they raise into
+the exit status of INTERFACE.md:
+
+- 0 success;
+- 2 bad input (:class:`~polind.errors.InputError`, click usage errors), with
+  exactly one line ``polind: error: <message>`` on standard error;
+- 1 an internal error, one line ``polind: internal error: <type>: <message>``
+  (and the traceback when the environment variable ``POLIND_DEBUG`` is set).
+
+Adding a command (``demo``, ``dynamics``, ``fit``, ``surface``, ``bench``) is
+one function: decorate it with ``@cli.command()``, take the model path with
+``@model_argument`` and the output with ``@output_option``, load the model
+with :func:`load_model`, call :func:`check_output_path` on the output before
+any long computation, show progress with :func:`progress`, and import the
+heavy modules (numpy, the models, matplotlib) inside the function so that
+``polind --help`` stays fast.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import sys
+import traceback
+from pathlib import Path
+
+import click
+
+from polind import __version__
+from polind.errors import InputError
+
+__all__ = ["cli", "main", "progress"]
+
+_PROGRAM = "polind"
+
+
+# --- pieces shared by the commands ---------------------------------------------------------
+
+def _file_path(**kwargs):
+    """A path parameter; existence is checked by the reader, which names the file."""
+    return click.Path(dir_okay=False, path_type=Path, **kwargs)
+
+
+def model_argument(command):
+    """The ``MODEL`` argument: a model file (TOML, or JSON by extension)."""
+    return click.argument("model_path", metavar="MODEL", type=_file_path())(command)
+
+
+def output_option(command):
+    """The required ``--output`` option: the file written on success only."""
+    return click.option("--output", "-o", "output_path", required=True, type=_file_path(),
+                        help="File to write; nothing is written unless the run succeeds.",
+                        )(command)
+
+
+@contextlib.contextmanager
+def blame(path):
+    """Prefix the file's path to an InputError raised inside, unless it already names it.
+
+    The library's messages name a parameter or column; on the command line the
+    user also needs to know which file it came from.
+    """
+    name = os.fspath(path)
+    try:
+        yield
+    except InputError as exc:
+        message = str(exc)
+        if message.startswith(name):
+            raise
+        raise InputError(f"{name}: {message}") from exc
+
+
+def load_model(path):
+    """The model of a model file, errors prefixed with the file's path."""
+    import polind
+
+    with blame(path):
+        return polind.load_model(path)
+
+
+def check_output_path(path) -> None:
+    """Fail before a long run if ``--output`` cannot be written."""
+    from polind import io
+
+    io.check_output_path(path)
+
+
+def _stderr_is_terminal() -> bool:
+    try:
+        return sys.stderr.isatty()
+    except (AttributeError, ValueError):  # replaced or closed stream
+        return False
+
+
+def progress(total=None, description="", unit="step"):
+    """A progress bar on a terminal, nothing when standard error is piped.
+
+    Returns a ``tqdm`` object (disabled when not on a terminal: its
+    ``update`` and ``close`` then do nothing); use it as a context manager.
+
+    Examples
+    --------
+    >>> with progress(total=3, description="phenomena") as bar:
+    ...     for _ in range(3):
+    ...         bar.update()
+    """
+    from tqdm import tqdm
+
+    return tqdm(total=total, desc=description, unit=unit, file=sys.stderr, leave=False,
+                dynamic_ncols=True, disable=not _stderr_is_terminal())
+
+
+# --- the commands ---------------------------------------------------------------------------
+
+@click.group(name=_PROGRAM, context_settings={"help_option_names": ["-h", "--help"]})
+@click.version_option(__version__, "--version", prog_name=_PROGRAM,
+                      message="%(prog)s %(version)s")
+def cli():
+    """polind: dynamic friction modelling, the Pol-Ind model and its classical peers.
+
+    Exit status: 0 success, 2 bad input (one line on standard error), 1 an
+    internal error (set POLIND_DEBUG=1 for the traceback).
+    """
+
+
+@cli.command()
+@model_argument
+@click.option("--input", "-i", "motion_path", required=True, type=_file_path(),
+              metavar="MOTION.csv",
+              help="Prescribed motion: header with t and one of x [m], v [m/s]; "
+                   "optionally normal_load [N] (pol-ind).")
+@output_option
+def simulate(model_path, motion_path, output_path):
+    """Friction force along a prescribed motion.
+
+    Writes OUT.csv with the header t,x,v,F (SI units, full float precision).
+    """
+    import polind
+    from polind import io
+
+    check_output_path(output_path)
+    model = load_model(model_path)
+    motion = io.read_motion_csv(motion_path)
+    with blame(motion_path):
+        result = polind.simulate(model, motion["t"], x=motion.get("x"), v=motion.get("v"),
+                                 normal_load=motion.get("normal_load"))
+    io.write_csv_atomic(output_path, {"t": result.t, "x": result.x, "v": result.v,
+                                      "F": result.force})
+    click.echo(f"wrote {output_path}: {len(result.t)} samples")
+
+
+# demo, dynamics, fit, surface and bench (INTERFACE.md) join here, one function each.
+
+
+# --- the entry point ------------------------------------------------------------------------
+
+def _one_line(text) -> str:
+    return " ".join(str(text).split())
+
+
+def _debugging() -> bool:
+    return os.environ.get("POLIND_DEBUG", "") not in ("", "0")
+
+
+def _report(kind: str, message: str) -> None:
+    if _debugging():
+        traceback.print_exc(file=sys.stderr)
+    sys.stderr.write(f"{_PROGRAM}: {kind}: {_one_line(message)}\n")
+    sys.stderr.flush()
+
+
+def _run(argv) -> int:
+    """Run the command line; return the exit status."""
+    try:
+        status = cli.main(args=argv, prog_name=_PROGRAM, standalone_mode=False)
+    except click.exceptions.NoArgsIsHelpError as exc:
+        # A bare `polind` asks what it can do: the help, and success.
+        click.echo(exc.format_message())
+        return 0
+    except click.ClickException as exc:
+        _report("error", exc.format_message())
+        return 2
+    except InputError as exc:
+        _report("error", str(exc))
+        return 2
+    except click.Abort:
+        _report("error", "interrupted")
+        return 130
+    except Exception as exc:  # noqa: BLE001 - the last resort: exit 1 with one line
+        _report("internal error", f"{type(exc).__name__}: {exc}")
+        return 1
+    # standalone_mode=False returns the exit code of --help/--version, else
+    # the command's return value (None): commands do not choose statuses.
+    return status if isinstance(status, int) else 0
+
+
+def main(argv=None) -> None:
+    """The ``polind`` console script: run the command line and exit with its status."""
+    sys.exit(_run(argv))
+
+
+if __name__ == "__main__":
+    main()

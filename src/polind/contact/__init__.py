@@ -1,0 +1,48 @@
+"""Contact mechanics of the Pol-Ind model (MODELS.md 7.1–7.5).
+
+Greenwood–Williamson surfaces (statistical and direct summation), the
+single-asperity laws of Hertz, Cattaneo–Mindlin and Masing, the separation
+solver (the paper's iterative method) and the modified Maxwell-slip element
+table built from them.
+"""
+
+from polind.contact.asperity import (
+    contact_radius,
+    hertz_load,
+    masing_force,
+    mindlin_force,
+    mindlin_slip_displacement,
+    slip_capacity,
+    tangential_stiffness,
+)
+from polind.contact.builder import Contact, build_contact, default_contact_parameters
+from polind.contact.elements import ElementTable, element_properties, element_table
+from polind.contact.greenwood import VALID_RANGE, gw_integral
+from polind.contact.materials import effective_moduli, shear_modulus
+from polind.contact.separation import solve_separation, solve_separation_series
+from polind.contact.surface import DirectSurface, StatisticalSurface, read_summit_heights
+
+__all__ = [
+    "Contact",
+    "DirectSurface",
+    "ElementTable",
+    "StatisticalSurface",
+    "VALID_RANGE",
+    "build_contact",
+    "contact_radius",
+    "default_contact_parameters",
+    "effective_moduli",
+    "element_properties",
+    "element_table",
+    "gw_integral",
+    "hertz_load",
+    "masing_force",
+    "mindlin_force",
+    "mindlin_slip_displacement",
+    "read_summit_heights",
+    "shear_modulus",
+    "slip_capacity",
+    "solve_separation",
+    "solve_separation_series",
+    "tangential_stiffness",
+]

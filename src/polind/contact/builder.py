@@ -1,0 +1,221 @@
+"""From the pol-ind model table to the loaded contact (MODELS.md 7.1–7.5; INTERFACE.md).
+
+:func:`build_contact` reads the keys of the ``[model]`` table of a
+``pol-ind`` model file that the contact mechanics needs (``normal_load``,
+``static_coefficient``, ``surface``, ``materials``, ``discretisation``),
+builds the surface, solves the separation and builds the element table;
+:meth:`Contact.summary` is what ``polind surface --json`` prints.
+"""
+
+from __future__ import annotations
+
+import copy
+import os
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+from polind.contact._checks import positive_number
+from polind.contact.elements import ElementTable, element_table
+from polind.contact.materials import effective_moduli
+from polind.contact.separation import solve_separation
+from polind.contact.surface import DirectSurface, StatisticalSurface
+from polind.errors import InputError, describe
+
+__all__ = ["Contact", "build_contact", "default_contact_parameters"]
+
+# The default Pol-Ind parameter set of INTERFACE.md (a steel pair under 100 N),
+# restricted to the keys the contact mechanics reads.
+_DEFAULTS = {
+    "normal_load": 100.0,
+    "static_coefficient": 0.15,
+    "surface": {
+        "asperity_density": 1e10,
+        "nominal_area": 1e-4,
+        "asperity_radius": 50e-6,
+        "height_std": 0.5e-6,
+    },
+    "materials": {
+        "youngs_modulus": [210e9, 210e9],
+        "poisson_ratio": [0.3, 0.3],
+    },
+    "discretisation": {
+        "summation": "statistical",
+        "elements": 64,
+        "seed": 0,
+    },
+}
+
+
+def default_contact_parameters() -> dict:
+    """A fresh copy of the default contact keys of the pol-ind model table (INTERFACE.md)."""
+    return copy.deepcopy(_DEFAULTS)
+
+
+@dataclass(frozen=True, eq=False)
+class Contact:
+    """A surface pressed by its normal load: separation and Maxwell-slip elements.
+
+    Attributes
+    ----------
+    surface : StatisticalSurface or DirectSurface
+        The rough surface with its materials.
+    normal_load : float
+        Applied normal load ``N_app`` [N].
+    separation : float
+        Separation ``d`` [m] with ``N(d) = N_app`` (to 1e-10 relative).
+    elements : ElementTable
+        The modified Maxwell-slip elements at ``d``.
+    """
+
+    surface: StatisticalSurface | DirectSurface
+    normal_load: float
+    separation: float
+    elements: ElementTable
+
+    @property
+    def contacts(self) -> float:
+        """Asperities in contact at the separation (expected number if statistical)."""
+        return float(self.surface.contacts(self.separation))
+
+    @property
+    def real_area(self) -> float:
+        """Real contact area at the separation [m^2]."""
+        return float(self.surface.real_area(self.separation))
+
+    def summary(self) -> dict:
+        """Plain-float summary, the JSON object of ``polind surface --json``.
+
+        Keys ``separation`` [m], ``contacts`` [-], ``real_area`` [m^2],
+        ``normal_load`` [N] and ``elements``, a list of
+        ``{stiffness [N/m], breakaway_force [N], asperities [-], interference [m]}``.
+        """
+        return {
+            "separation": float(self.separation),
+            "contacts": self.contacts,
+            "real_area": self.real_area,
+            "normal_load": float(self.normal_load),
+            "elements": self.elements.records(),
+        }
+
+
+def _table(params: Mapping, key: str) -> dict:
+    """A sub-table of the model table with the defaults filled in."""
+    given = params.get(key)
+    if given is None:
+        given = {}
+    if not isinstance(given, Mapping):
+        raise InputError(f"The '{key}' of pol-ind must be a table. Got {describe(given)}.")
+    return {**_DEFAULTS[key], **given}
+
+
+def _pair(table: Mapping, key: str) -> tuple:
+    """A two-entry list ``[body 1, body 2]`` of the materials table."""
+    value = table[key]
+    if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") or len(value) != 2:
+        raise InputError(
+            f"The 'materials.{key}' of pol-ind must be a list of two numbers (body 1, body 2). "
+            f"Got {describe(value)}."
+        )
+    return tuple(value)
+
+
+def build_contact(params: Mapping | None = None, base_dir=None) -> Contact:
+    """Build the loaded contact of a pol-ind model table.
+
+    Parameters
+    ----------
+    params : mapping, optional
+        The ``[model]`` table as nested dicts, with the keys
+        ``normal_load`` [N], ``static_coefficient`` [-],
+        ``surface`` = {``asperity_density`` [1/m^2], ``nominal_area`` [m^2],
+        ``asperity_radius`` [m], ``height_std`` [m]},
+        ``materials`` = {``youngs_modulus`` [Pa, Pa], ``poisson_ratio`` [-, -]},
+        ``discretisation`` = {``summation`` ("statistical" or "direct"),
+        ``elements`` (bins, statistical), ``seed`` (direct, sampled),
+        ``heights_file`` (direct, measured)}.  Missing keys take the default
+        values of INTERFACE.md; other keys of the model table are ignored
+        (they are not the contact's).  ``None`` gives the default contact.
+    base_dir : str or os.PathLike, optional
+        Directory a relative ``heights_file`` is read from (the model file's);
+        default: the current directory.
+
+    Returns
+    -------
+    Contact
+
+    Raises
+    ------
+    polind.InputError
+        If a value used here is of the wrong type or out of range, the
+        heights file is bad, or the surface cannot carry the load.
+
+    Examples
+    --------
+    >>> contact = build_contact()
+    >>> summary = contact.summary()
+    >>> len(summary["elements"]), round(summary["separation"] / 0.5e-6, 4)
+    (64, 3.0042)
+    """
+    params = {} if params is None else params
+    if not isinstance(params, Mapping):
+        raise InputError(f"The model table of pol-ind must be a table. Got {describe(params)}.")
+    normal_load = positive_number(params.get("normal_load", _DEFAULTS["normal_load"]), "normal_load")
+    static_coefficient = positive_number(
+        params.get("static_coefficient", _DEFAULTS["static_coefficient"]), "static_coefficient"
+    )
+    surface_keys = _table(params, "surface")
+    materials = _table(params, "materials")
+    discretisation = _table(params, "discretisation")
+
+    E1, E2 = _pair(materials, "youngs_modulus")
+    nu1, nu2 = _pair(materials, "poisson_ratio")
+    E_star, G_star = effective_moduli(E1, nu1, E2, nu2)
+
+    summation = discretisation["summation"]
+    heights_file = discretisation.get("heights_file")
+    if summation == "statistical":
+        if heights_file is not None:
+            raise InputError(
+                "The 'discretisation.heights_file' of pol-ind is only read with "
+                f"summation = \"direct\". Got {describe(heights_file)} with summation = \"statistical\"."
+            )
+        surface = StatisticalSurface(
+            surface_keys["asperity_density"],
+            surface_keys["nominal_area"],
+            surface_keys["asperity_radius"],
+            surface_keys["height_std"],
+            E_star,
+            G_star,
+        )
+    elif summation == "direct":
+        if heights_file is not None:
+            if not isinstance(heights_file, (str, os.PathLike)):
+                raise InputError(
+                    "The 'discretisation.heights_file' of pol-ind must be a file name. "
+                    f"Got {describe(heights_file)}."
+                )
+            path = os.fspath(heights_file)
+            if base_dir is not None and not os.path.isabs(path):
+                path = os.path.join(os.fspath(base_dir), path)
+            surface = DirectSurface.from_csv(path, surface_keys["asperity_radius"], E_star, G_star)
+        else:
+            surface = DirectSurface.from_seed(
+                surface_keys["asperity_density"],
+                surface_keys["nominal_area"],
+                surface_keys["height_std"],
+                surface_keys["asperity_radius"],
+                E_star,
+                G_star,
+                seed=discretisation["seed"],
+            )
+    else:
+        raise InputError(
+            "The 'discretisation.summation' of pol-ind must be \"statistical\" or \"direct\". "
+            f"Got {describe(summation)}."
+        )
+
+    separation = solve_separation(surface, normal_load)
+    elements = element_table(
+        surface, separation, static_coefficient, discretisation["elements"], normal_load=normal_load
+    )
+    return Contact(surface=surface, normal_load=normal_load, separation=separation, elements=elements)

@@ -1,0 +1,245 @@
+"""Greenwood–Williamson integrals of the Gaussian summit-height distribution (MODELS.md 7.3).
+
+``F_m(s) = ∫_s^∞ (t - s)^m phi(t) dt`` with ``phi`` the standard normal
+density, in the normalised variable ``s = d / sigma_a``.  The statistical
+surface needs ``F_0`` (asperities in contact), ``F_1`` (real area),
+``F_{3/2}`` (normal load) and ``F_{1/2}`` (its slope, since
+``dF_m/ds = -m F_{m-1}``).
+
+Representations, chosen for relative accuracy over ``s`` in [-5, 10] (the
+range the separation solver allows) and for speed (the solver calls these in
+its Newton loop):
+
+- ``F_0 = erfc(s/√2)/2``; ``F_1 = phi(s) - s F_0(s)``, written with
+  ``erfcx`` for ``s >= 0`` so that nothing underflows before the difference.
+- ``F_{1/2}``, ``F_{3/2}``: ``F_m(s) = Γ(m+1) phi(s) e^{s²/4} D_{-m-1}(s)``
+  with the parabolic-cylinder functions of half-integer order written as
+  modified Bessel functions of order ±1/4, ±3/4 at ``w = s²/4``:
+
+  * ``s > 0``:  ``F_{-1/2} = √s e^{-s²/2} K_{1/4}(w) / (2√π)``,
+    ``F_{1/2} = s^{3/2} e^{-s²/2} [K_{3/4}(w) - K_{1/4}(w)] / (4√π)``;
+  * ``s = -x < 0``: ``F_{-1/2} = √π √x [I_{-1/4} + I_{1/4}](w) e^{-w} / (2√2)``,
+    ``F_{1/2} = √π x^{3/2} [I_{-3/4} + I_{-1/4} + I_{1/4} + I_{3/4}](w) e^{-w} / (4√2)``;
+  * then ``F_{3/2} = F_{-1/2}/2 - s F_{1/2}`` (integration by parts);
+  * ``|s| < 1e-8``: first-order Taylor series about 0, because the Bessel
+    forms are ``0·∞`` at ``s = 0``.
+
+  The exponentially scaled ``scipy.special.kve``/``ive`` keep every factor in
+  range.  ``scipy.special.pbdv`` was rejected: its relative error reaches
+  1e-9 near ``s = 6`` and it is about 5x slower.  Measured against
+  arbitrary-precision quadrature on [-5, 10]: relative error below 4e-13 for
+  ``F_{1/2}`` and 3e-12 for ``F_{3/2}`` (largest near ``s = 2.8``, where
+  ``K_{3/4} - K_{1/4}`` cancels most), below 1e-14 for ``F_0`` and ``F_1``.
+"""
+
+from __future__ import annotations
+
+import math
+from functools import lru_cache
+
+import numpy as np
+from scipy import special
+
+from polind.errors import InputError, describe
+
+__all__ = ["gw_integral", "half_integer_pair", "three_halves_inverse", "VALID_RANGE"]
+
+#: The range of ``s = d / sigma_a`` over which the integrals are verified to
+#: 1e-10 relative accuracy and which the separation solver accepts.
+VALID_RANGE = (-5.0, 10.0)
+
+_kve = special.kve
+_ive = special.ive
+_SQRT_PI = math.sqrt(math.pi)
+_INV_SQRT_2PI = 1.0 / math.sqrt(2.0 * math.pi)
+_SQRT_2 = math.sqrt(2.0)
+# F_m(0) = 2^(m/2) Γ((m+1)/2) / (2√π), half the absolute moment E|Z|^m.
+_F_MINUS_HALF_0 = 2.0**-0.25 * math.gamma(0.25) / (2.0 * _SQRT_PI)
+_F_HALF_0 = 2.0**0.25 * math.gamma(0.75) / (2.0 * _SQRT_PI)
+_F_THREE_HALVES_0 = 2.0**0.75 * math.gamma(1.25) / (2.0 * _SQRT_PI)
+# Below this |s| the Bessel forms lose their scale (0·∞); the Taylor series'
+# neglected s² term is then below 1e-16 relative.
+_TAYLOR_BELOW = 1e-8
+
+
+def _bessel_pair_positive(s):
+    """``(F_{1/2}, F_{3/2})`` for ``s > 0`` (scalar or array), K-Bessel form."""
+    w = 0.25 * s * s
+    k_quarter = special.kve(0.25, w)
+    k_three_quarters = special.kve(0.75, w)
+    gauss = np.exp(-0.5 * s * s) / (4.0 * _SQRT_PI)
+    root = np.sqrt(s)
+    f_minus_half = 2.0 * root * gauss * k_quarter
+    f_half = s * root * gauss * (k_three_quarters - k_quarter)
+    return f_half, 0.5 * f_minus_half - s * f_half
+
+
+def _bessel_pair_negative(s):
+    """``(F_{1/2}, F_{3/2})`` for ``s < 0`` (scalar or array), I-Bessel form."""
+    x = -s
+    w = 0.25 * x * x
+    i_quarter = special.ive(0.25, w) + special.ive(-0.25, w)
+    i_three_quarters = special.ive(0.75, w) + special.ive(-0.75, w)
+    scale = _SQRT_PI / (4.0 * _SQRT_2)
+    root = np.sqrt(x)
+    f_minus_half = 2.0 * scale * root * i_quarter
+    f_half = scale * x * root * (i_quarter + i_three_quarters)
+    # Both terms are positive here: no cancellation for s < 0.
+    return f_half, 0.5 * f_minus_half + x * f_half
+
+
+def _taylor_pair(s):
+    """``(F_{1/2}, F_{3/2})`` to first order about ``s = 0``."""
+    return (
+        _F_HALF_0 - 0.5 * _F_MINUS_HALF_0 * s,
+        _F_THREE_HALVES_0 - 1.5 * _F_HALF_0 * s,
+    )
+
+
+def half_integer_pair(s: float) -> tuple[float, float]:
+    """``(F_{1/2}(s), F_{3/2}(s))`` for one float ``s``: the solver's fast path.
+
+    The same formulas as :func:`gw_integral`, with Python floats and the
+    ``math`` module so that a call costs a few microseconds.
+
+    Parameters
+    ----------
+    s : float
+        Normalised separation ``d / sigma_a`` [-].
+
+    Returns
+    -------
+    tuple of float
+        ``F_{1/2}(s)`` and ``F_{3/2}(s)``.
+    """
+    s = float(s)
+    if s > _TAYLOR_BELOW:
+        if s == math.inf:
+            return 0.0, 0.0
+        w = 0.25 * s * s
+        k_quarter = float(_kve(0.25, w))
+        k_three_quarters = float(_kve(0.75, w))
+        gauss = math.exp(-0.5 * s * s) / (4.0 * _SQRT_PI)
+        root = math.sqrt(s)
+        f_half = s * root * gauss * (k_three_quarters - k_quarter)
+        return f_half, root * gauss * k_quarter - s * f_half
+    if s < -_TAYLOR_BELOW:
+        if s == -math.inf:
+            return math.inf, math.inf
+        x = -s
+        w = 0.25 * x * x
+        i_quarter = float(_ive(0.25, w)) + float(_ive(-0.25, w))
+        i_three_quarters = float(_ive(0.75, w)) + float(_ive(-0.75, w))
+        scale = _SQRT_PI / (4.0 * _SQRT_2)
+        root = math.sqrt(x)
+        f_half = scale * x * root * (i_quarter + i_three_quarters)
+        return f_half, scale * root * i_quarter + x * f_half
+    if s != s:
+        return math.nan, math.nan
+    f_half, f_three_halves = _taylor_pair(s)
+    return float(f_half), float(f_three_halves)
+
+
+def _half_integer_arrays(s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Vectorised ``(F_{1/2}, F_{3/2})``; each branch evaluated on its own samples."""
+    f_half = np.full(s.shape, np.nan)
+    f_three_halves = np.full(s.shape, np.nan)
+    positive = (s > _TAYLOR_BELOW) & np.isfinite(s)
+    negative = (s < -_TAYLOR_BELOW) & np.isfinite(s)
+    small = np.abs(s) <= _TAYLOR_BELOW
+    f_half[positive], f_three_halves[positive] = _bessel_pair_positive(s[positive])
+    f_half[negative], f_three_halves[negative] = _bessel_pair_negative(s[negative])
+    f_half[small], f_three_halves[small] = _taylor_pair(s[small])
+    f_half[s == np.inf] = f_three_halves[s == np.inf] = 0.0
+    f_half[s == -np.inf] = f_three_halves[s == -np.inf] = np.inf
+    return f_half, f_three_halves
+
+
+def _upper_tail(s):
+    """``F_0(s) = Q(s)``, the standard normal upper tail."""
+    return 0.5 * special.erfc(s / _SQRT_2)
+
+
+def _first_moment(s):
+    """``F_1(s) = phi(s) - s Q(s)``."""
+    s = np.asarray(s, dtype=float)
+    with np.errstate(over="ignore", invalid="ignore"):
+        # For s >= 0, pull e^{-s²/2} out of both terms (erfcx) so the
+        # difference is formed before anything can underflow.
+        scaled = np.exp(-0.5 * s * s) * (_INV_SQRT_2PI - 0.5 * s * special.erfcx(s / _SQRT_2))
+        direct = _INV_SQRT_2PI * np.exp(-0.5 * s * s) - s * _upper_tail(s)
+        value = np.where(s >= 0.0, scaled, direct)
+    return np.where(s == np.inf, 0.0, value)
+
+
+def gw_integral(m, s):
+    """Greenwood–Williamson integral ``F_m(s) = ∫_s^∞ (t - s)^m phi(t) dt``.
+
+    Parameters
+    ----------
+    m : {0, 0.5, 1, 1.5}
+        Order: 0 gives the fraction of summits in contact, 1 the mean
+        interference, 3/2 the Hertz load and 1/2 its slope (MODELS.md 7.3).
+    s : float or array_like
+        Normalised separation ``d / sigma_a`` [-].  Accurate to 1e-10
+        relative (measured: 3e-12) on :data:`VALID_RANGE` = [-5, 10].
+
+    Returns
+    -------
+    numpy.ndarray or float
+        ``F_m(s)``, same shape as ``s`` (a float for a scalar ``s``).
+
+    Raises
+    ------
+    polind.InputError
+        If ``m`` is not one of 0, 1/2, 1, 3/2.
+
+    Examples
+    --------
+    >>> round(float(gw_integral(1.5, 0.0)), 6), round(float(gw_integral(1.5, 1.0)), 7)
+    (0.43002, 0.0756682)
+    """
+    order = float(m) if isinstance(m, (int, float, np.integer, np.floating)) else None
+    if order not in (0.0, 0.5, 1.0, 1.5):
+        raise InputError(
+            f"The order 'm' of gw_integral must be one of 0, 0.5, 1, 1.5. Got {describe(m)}."
+        )
+    s_array = np.asarray(s, dtype=float)
+    if order == 0.0:
+        value = _upper_tail(s_array)
+    elif order == 1.0:
+        value = _first_moment(s_array)
+    else:
+        f_half, f_three_halves = _half_integer_arrays(np.atleast_1d(s_array))
+        value = (f_half if order == 0.5 else f_three_halves).reshape(s_array.shape)
+    return float(value) if np.ndim(s) == 0 else value
+
+
+@lru_cache(maxsize=1)
+def _log_three_halves_table() -> tuple[np.ndarray, np.ndarray]:
+    """``log F_{3/2}`` on a grid over a little more than :data:`VALID_RANGE`, increasing."""
+    grid = np.linspace(VALID_RANGE[0] - 1.0, VALID_RANGE[1] + 1.0, 321)
+    # Reversed so that the tabulated values increase, as np.interp needs.
+    return np.log(gw_integral(1.5, grid))[::-1].copy(), grid[::-1].copy()
+
+
+def three_halves_inverse(value: float) -> float:
+    """Approximate ``s`` with ``F_{3/2}(s) = value`` (a starting point for Newton).
+
+    Linear interpolation of ``log F_{3/2}`` tabulated at spacing 0.05: the
+    error in ``s`` is below 1e-3 inside :data:`VALID_RANGE`, so a Newton
+    iteration from it needs two or three steps.  Outside the table the end
+    values are returned.
+
+    Parameters
+    ----------
+    value : float
+        Target ``F_{3/2}`` [-], positive.
+
+    Returns
+    -------
+    float
+        Approximate normalised separation ``s`` [-].
+    """
+    log_values, grid = _log_three_halves_table()
+    return float(np.interp(math.log(value), log_values, grid))

@@ -1,0 +1,284 @@
+"""The separation under a given normal load: the iterative method (MODELS.md 7.4, approach III).
+
+Solves ``N(d) = N_app`` for the separation ``d`` of a
+:class:`~polind.contact.surface.StatisticalSurface` or a
+:class:`~polind.contact.surface.DirectSurface` (or anything with their
+``load_and_slope``, ``separation_range`` and ``load_range``) with a
+safeguarded Newton iteration: the root is kept in a bracket
+``[lo, hi]`` with ``N(lo) >= N_app >= N(hi)``; each step is a Newton step on
+``log N(d) - log N_app`` (the load spans decades, and ``log N`` is concave
+and gently curved where ``N`` itself is exponentially small, so Newton
+converges monotonically after its first step), and a step that would leave
+the bracket is replaced by bisection.  It stops when
+``|N(d) - N_app| <= 1e-10 N_app``.  The start is a table look-up of
+``F_{3/2}`` for the Gaussian with the surface's moments: 3 load evaluations
+for any load on the default surfaces; a warm start in a series needs 1–2.
+The one case the tolerance cannot be met is a direct surface whose highest
+summit alone carries a load so small that its interference is below about
+1e-9 of ``|d|``: neighbouring doubles of ``d`` then differ by more than
+1e-10 in load, and the best representable ``d`` is returned.
+
+Loads the surface cannot carry are :class:`polind.InputError`:
+
+- not a positive finite number;
+- statistical surface: a load that needs ``d/sigma_a < -5`` (nearly every
+  summit crushed, far outside the model's small-interference validity) or
+  ``d/sigma_a > 10`` (fewer than ``eta A0 * 8e-24`` summits in contact:
+  the load is carried by no asperity in any physical sense); this is also
+  the range over which the ``F_m`` are verified to 1e-10;
+- direct surface: nothing more.  Any positive load has a separation below
+  the highest summit (the load tends to 0 as ``d`` tends to it); a load
+  above ``N(lowest summit)`` puts the flat below every summit, all in
+  contact, and is accepted, because an element table used as a surface
+  (:meth:`polind.contact.elements.ElementTable.as_surface`) must carry the
+  load it was built for with the flat below its lowest element.  The
+  bracket's lower end is where the highest summit alone would carry the
+  load, ``h_max - (N / (c_max (4/3) E* sqrt(R)))^(2/3)``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from polind.contact.greenwood import three_halves_inverse
+from polind.errors import InputError, describe
+
+__all__ = ["solve_separation", "solve_separation_series", "RELATIVE_TOLERANCE"]
+
+#: Required accuracy of the load balance, ``|N(d) - N_app| <= tol N_app``.
+RELATIVE_TOLERANCE = 1e-10
+
+# Enough for bisection alone to shrink any float bracket to adjacent floats.
+_MAX_ITERATIONS = 2200
+
+
+def _checked_load(value, where: str = "") -> float:
+    """The load as a float if positive and finite, else InputError."""
+    numeric = isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)
+    number = float(value) if numeric else math.nan
+    if not (math.isfinite(number) and number > 0.0):
+        raise InputError(
+            f"The 'normal_load' of pol-ind must be a positive finite number. "
+            f"Got {describe(number if numeric else value)}{where}."
+        )
+    return number
+
+
+def _checked_initial(value) -> float:
+    """The starting separation as a float if finite, else InputError."""
+    numeric = isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)
+    if not (numeric and math.isfinite(float(value))):
+        raise InputError(f"The 'initial' separation must be a finite number in metres. Got {describe(value)}.")
+    return float(value)
+
+
+def _check_reachable(surface, load: float, where: str = "") -> None:
+    """Raise InputError if no separation in the surface's range carries ``load``."""
+    smallest, largest = surface.load_range
+    if surface.kind == "statistical":
+        if load > largest:
+            raise InputError(
+                f"The 'normal_load' of pol-ind is too large for its statistical surface: it "
+                f"needs d/sigma_a below -5, nearly every summit crushed, outside the "
+                f"Greenwood–Williamson model. Got {load!r} N{where}; expected at most {largest:.6g} N."
+            )
+        if load < smallest:
+            raise InputError(
+                f"The 'normal_load' of pol-ind is too small for its statistical surface: it "
+                f"needs d/sigma_a above 10, where no asperity is in contact "
+                f"(expected count {surface.contacts(surface.separation_range[1]):.3g}). "
+                f"Got {load!r} N{where}; expected at least {smallest:.6g} N."
+            )
+
+
+def _initial_guess(surface, load: float, low: float, high: float) -> float:
+    """A starting separation inside the bracket ``(low, high)``.
+
+    The Gaussian surface with the same summit count, mean height and spread
+    carries nearly the same load at nearly the same separation, and its
+    ``F_{3/2}`` is inverted by table look-up; for the statistical surface
+    that is the surface itself.
+    """
+    if surface.kind == "statistical":
+        mean, std, count = 0.0, surface.height_std, surface.asperity_count
+    else:
+        (mean, std), count = surface.height_statistics, surface.asperity_count
+    if std > 0.0:
+        scale = (4.0 / 3.0) * count * surface.E_star * math.sqrt(surface.asperity_radius) * std**1.5
+        guess = mean + std * three_halves_inverse(load / scale)
+        if low < guess < high:
+            return guess
+    # Equal heights (or a guess outside the bracket): the lower end, where
+    # the highest summits alone carry the load, exact for equal heights.
+    return low if math.isfinite(low) else 0.5 * (low + high)
+
+
+def _lower_bound(surface, load: float) -> float:
+    """A separation at which the surface carries at least ``load``.
+
+    Statistical surface: the end of its range (the load was checked against
+    it).  Direct surface: the highest summits alone, carrying the whole
+    load, need a larger interference than the real contact, where lower
+    summits help, so ``N(d) >= load`` at
+    ``d = h_max - (N / (c_max (4/3) E* sqrt(R)))^(2/3)``.
+    """
+    low, high = surface.separation_range
+    if surface.kind != "direct":
+        return low
+    hertz = (4.0 / 3.0) * surface.E_star * math.sqrt(surface.asperity_radius)
+    return high - (load / (surface.counts[-1] * hertz)) ** (2.0 / 3.0)
+
+
+def _newton(surface, load: float, start: float, lo: float, hi: float) -> tuple[float, int, float, float]:
+    """Safeguarded Newton iteration on ``log N(d) = log load`` in ``[lo, hi]``.
+
+    Returns the separation, the number of load evaluations, and ``N`` and
+    ``dN/dd`` there (for the next warm start).
+    """
+    log_load = math.log(load)
+    d = min(max(start, lo), hi)
+    best = (d, math.inf, math.nan, math.nan)
+    for iteration in range(1, _MAX_ITERATIONS + 1):
+        value, slope = surface.load_and_slope(d)
+        error = abs(value - load)
+        if error < best[1]:
+            best = (d, error, value, slope)
+        if error <= RELATIVE_TOLERANCE * load:
+            return d, iteration, value, slope
+        # Keep the root bracketed: N decreases with d.
+        if value > load:
+            lo = d
+        else:
+            hi = d
+        if value > 0.0 and slope < 0.0:
+            candidate = d - (math.log(value) - log_load) * value / slope
+        else:
+            # No asperity touches at d (N = 0): no Newton information.
+            candidate = math.nan
+        if not lo < candidate < hi:
+            candidate = 0.5 * (lo + hi)
+        if candidate == d or not lo < candidate < hi:
+            # The bracket has shrunk to adjacent floats: d is as good as
+            # double precision allows.
+            break
+        d = candidate
+    return best[0], iteration, best[2], best[3]
+
+
+def _predicted(d: float, value: float, slope: float, load: float) -> float:
+    """Warm start: one Newton step from the last solution, with its known ``N`` and slope."""
+    if value > 0.0 and slope < 0.0:
+        return d - (math.log(value) - math.log(load)) * value / slope
+    return d
+
+
+def solve_separation(surface, normal_load, initial=None, *, full_output=False):
+    """Separation ``d`` at which the surface carries the normal load (MODELS.md 7.4).
+
+    Parameters
+    ----------
+    surface : StatisticalSurface or DirectSurface
+        The rough surface.
+    normal_load : float
+        Applied normal load ``N_app`` [N], positive.
+    initial : float, optional
+        Starting separation [m] (a warm start); by default a guess from the
+        surface's statistics.
+    full_output : bool, optional
+        Also return the number of load evaluations.
+
+    Returns
+    -------
+    d : float
+        Separation [m] with ``|N(d) - N_app| <= 1e-10 N_app``.
+    evaluations : int
+        Only with ``full_output``: load evaluations used.
+
+    Raises
+    ------
+    polind.InputError
+        If the load is not positive and finite, or the surface cannot carry
+        it (see the module notes for the limits).
+
+    Examples
+    --------
+    >>> from polind.contact.surface import StatisticalSurface
+    >>> surface = StatisticalSurface(1e10, 1e-4, 50e-6, 0.5e-6, 1.15e11, 2.4e10)
+    >>> d = solve_separation(surface, 100.0)
+    >>> abs(float(surface.normal_load(d)) - 100.0) <= 1e-8
+    True
+    """
+    load = _checked_load(normal_load)
+    _check_reachable(surface, load)
+    lo, hi = _lower_bound(surface, load), surface.separation_range[1]
+    start = _initial_guess(surface, load, lo, hi) if initial is None else _checked_initial(initial)
+    d, evaluations, _, _ = _newton(surface, load, start, lo, hi)
+    return (d, evaluations) if full_output else d
+
+
+def solve_separation_series(surface, normal_load, initial=None, *, full_output=False):
+    """Separation ``d(t)`` for a time-varying normal load ``N(t)``, warm-started.
+
+    Every sample is solved as in :func:`solve_separation`, warm-started from
+    the previous sample: the first guess is the Newton step from the previous
+    separation, whose load and slope are known (a repeated load reuses the
+    previous separation outright).
+
+    Parameters
+    ----------
+    surface : StatisticalSurface or DirectSurface
+        The rough surface.
+    normal_load : array_like
+        Normal load at every sample [N], 1-D, each positive.
+    initial : float, optional
+        Starting separation [m] for the first sample.
+    full_output : bool, optional
+        Also return the load evaluations used at each sample.
+
+    Returns
+    -------
+    separation : numpy.ndarray
+        Separation [m] at every sample.
+    evaluations : numpy.ndarray of int
+        Only with ``full_output``.
+
+    Raises
+    ------
+    polind.InputError
+        As :func:`solve_separation`; the message gives the sample's index.
+    """
+    loads = np.asarray(normal_load, dtype=float)
+    if loads.ndim != 1:
+        raise InputError(
+            f"The 'normal_load' series of pol-ind must be 1-D. Got shape {loads.shape}."
+        )
+    # Check every sample before solving any: the error names the first bad one.
+    smallest, largest = surface.load_range
+    with np.errstate(invalid="ignore"):
+        bad = ~(np.isfinite(loads) & (loads > 0.0) & (loads >= smallest) & (loads <= largest))
+    if bad.any():
+        index = int(np.flatnonzero(bad)[0])
+        where = f" at index {index}"
+        _check_reachable(surface, _checked_load(loads[index], where), where)
+    hi = surface.separation_range[1]
+    separation = np.empty(loads.size)
+    evaluations = np.zeros(loads.size, dtype=np.int64)
+    previous_load = math.nan
+    d = None
+    for index, load in enumerate(loads.tolist()):
+        if load == previous_load:
+            separation[index] = d
+            continue
+        lo = _lower_bound(surface, load)
+        if d is None:
+            start = _initial_guess(surface, load, lo, hi) if initial is None else _checked_initial(initial)
+        else:
+            # The previous solution and its slope predict this one to second
+            # order in the load change: one evaluation saved per sample.
+            start = _predicted(d, value, slope, load)
+        d, evaluations[index], value, slope = _newton(surface, load, start, lo, hi)
+        separation[index] = d
+        previous_load = load
+    return (separation, evaluations) if full_output else separation

@@ -1,0 +1,51 @@
+"""The kernels' numerical building blocks, against NumPy and closed forms."""
+
+import numpy as np
+import pytest
+
+from polind.kernels.fastexp import decay_exp_array
+from polind.kernels.stribeck import EXPONENTIAL, RATIONAL
+from polind.models.static import stribeck_curve
+from polind import bench
+
+
+def test_decay_exp_matches_numpy_within_its_documented_error():
+    rng = np.random.default_rng(1)
+    x = np.concatenate([-rng.exponential(3.0, 200_000), -rng.uniform(0, 708, 200_000),
+                        [0.0, -1e-300, -0.5 * np.log(2), -np.log(2), -700.0, -708.0]])
+    got = decay_exp_array(x, np.empty_like(x))
+    want = np.exp(x)
+    assert np.max(np.abs(got - want)) < 2e-16
+    assert np.max(np.abs(got - want) / want / (1.0 + np.abs(x))) < 2e-16
+    small = x > -5.0
+    assert np.max(np.abs(got - want)[small] / want[small]) < 1e-15
+
+
+def test_decay_exp_underflows_to_zero():
+    x = np.array([-708.5, -1e4, -np.inf])
+    assert np.all(decay_exp_array(x, np.empty_like(x)) == 0.0)
+
+
+def test_stribeck_shape_codes_match_the_curve_definitions():
+    v = np.array([-1e-2, -1e-3, 0.0, 5e-4, 1e-3, 3e-3])
+    fc, fs, vs, delta = 1.0, 1.5, 1e-3, 2.0
+    exponential = fc + (fs - fc) * np.exp(-np.abs(v / vs) ** delta)
+    rational = fc + (fs - fc) / (1.0 + np.abs(v / vs) ** delta)
+    np.testing.assert_allclose(stribeck_curve(v, fc, fs, vs, delta, "exponential"), exponential,
+                               rtol=1e-15)
+    np.testing.assert_allclose(stribeck_curve(v, fc, fs, vs, delta, "rational"), rational,
+                               rtol=1e-15)
+    assert (EXPONENTIAL, RATIONAL) == (0, 1)
+
+
+@pytest.mark.parametrize("model_type, n", [("maxwell-slip", 1), ("maxwell-slip", 64),
+                                           ("gms", 1), ("gms", 64), ("lugre", 1), ("dahl", 1)])
+def test_kernels_agree_with_the_plain_numpy_loops_of_the_benchmark(model_type, n):
+    # The benchmark's ratio is only meaningful if both sides do the same work.
+    model = bench.bench_model(model_type, n)
+    path = bench.bench_path(4000)
+    kernel = model._advance(path, model.initial_state(), None)
+    reference = bench._numpy_reference(model, path)
+    scale = np.max(np.abs(reference))
+    assert scale > 0
+    assert np.max(np.abs(kernel - reference)) <= 1e-11 * scale
