@@ -154,7 +154,80 @@ def simulate(model_path, motion_path, output_path):
     click.echo(f"wrote {output_path}: {len(result.t)} samples")
 
 
-# demo, dynamics, fit, surface and bench (INTERFACE.md) join here, one function each.
+@cli.command()
+@model_argument
+@click.option("--json", "as_json", is_flag=True,
+              help="Print one JSON object instead of the readable table.")
+def surface(model_path, as_json):
+    """The contact mechanics of a Pol-Ind model: separation, contacts, real area, elements.
+
+    With --json: an object with keys separation, contacts, real_area,
+    normal_load and elements (a list of {stiffness, breakaway_force,
+    asperities, interference}).
+    """
+    import json
+
+    model = load_model(model_path)
+    if model.type != "pol-ind":
+        raise InputError(f"{model_path}: 'polind surface' needs a model of type 'pol-ind'. "
+                         f"Got '{model.type}' instead.")
+    with blame(model_path):
+        summary = model.contact().summary()
+    if as_json:
+        click.echo(json.dumps(summary))
+        return
+    params = model.params
+    sigma = params["surface"]["height_std"]
+    kind = params["discretisation"]["summation"]
+    lines = [
+        f"Pol-Ind contact of {model_path} ({kind} summation, {len(summary['elements'])} elements)",
+        f"  normal load    {summary['normal_load']:.6g} N",
+        f"  separation     {summary['separation']:.6g} m   (d / sigma_a = "
+        f"{summary['separation'] / sigma:.4f})",
+        f"  contacts       {summary['contacts']:.6g} asperities",
+        f"  real area      {summary['real_area']:.6g} m^2",
+        f"  break-away     {sum(e['breakaway_force'] for e in summary['elements']):.6g} N "
+        f"(mu_s N = {params['static_coefficient'] * summary['normal_load']:.6g} N)",
+        "",
+        f"  {'element':>7}  {'stiffness [N/m]':>16}  {'breakaway [N]':>14}  "
+        f"{'asperities':>11}  {'interference [m]':>17}",
+    ]
+    for j, element in enumerate(summary["elements"]):
+        lines.append(f"  {j:>7}  {element['stiffness']:>16.6g}  {element['breakaway_force']:>14.6g}"
+                     f"  {element['asperities']:>11.6g}  {element['interference']:>17.6g}")
+    click.echo("\n".join(lines))
+
+
+@cli.command()
+@click.option("--model", "models", multiple=True, metavar="TYPE",
+              help="Benchmark only this model type (repeatable). Default: all benchmarked.")
+def bench(models):
+    """The performance benchmark: element-steps per second, numba kernel vs plain NumPy.
+
+    Each model runs at 1, 64 and 1024 elements (the single-state models at
+    one); the same work done by a plain NumPy loop (step loop in Python,
+    elements vectorised) is timed in the same run and the ratio printed.
+    """
+    from polind import bench as benchmark
+    from polind.models import MODEL_TYPES
+
+    for model_type in models:
+        if model_type not in MODEL_TYPES:
+            raise InputError(f"Unknown model type '{model_type}' for option '--model'; expected "
+                             f"one of: {', '.join(sorted(MODEL_TYPES))}.")
+    cases = benchmark.cases(list(models) or None)
+    rows = []
+    click.echo("polind bench: one thread, best of 3 timed runs after a warm-up")
+    click.echo(benchmark.format_table([]))
+    with progress(total=len(cases), description="bench", unit="case") as bar:
+        for model_type, n in cases:
+            rows.append(benchmark.run_case(model_type, n))
+            bar.clear()
+            click.echo(benchmark.format_table(rows[-1:]).splitlines()[-1])
+            bar.update()
+
+
+# demo, dynamics and fit (INTERFACE.md) join here, one function each.
 
 
 # --- the entry point ------------------------------------------------------------------------

@@ -148,6 +148,11 @@ class ElementTable:
         return int(self.heights.size)
 
     @property
+    def weight(self) -> np.ndarray:
+        """Each element's share of the load, ``alpha_j = W_j / sum W`` (sums to 1; MODELS.md 7.6)."""
+        return self.breakaway_force / self.breakaway_force.sum()
+
+    @property
     def normal_load(self) -> float:
         """Normal load the elements carry, ``sum_j n_j P(delta_j)`` [N]."""
         return float(self.breakaway_force.sum() / self.static_coefficient)

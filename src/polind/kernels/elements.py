@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from polind.contact.elements import element_properties
 from polind.kernels import jit
 from polind.kernels.fastexp import decay_exp
 from polind.kernels.stribeck import sign, stribeck_curve
@@ -133,6 +134,53 @@ def gms_run(step, displacement, step_velocity, stiffness, weight, attraction,
             out_force[k] = element_sum(element_force)
             continue
         g = stribeck_curve(velocity, coulomb_force, static_force, stribeck_velocity,
+                           stribeck_exponent, shape)
+        out_force[k] = gms_elements(element_force, slip_direction, stiffness, weight,
+                                    inverse_weight, g, sign(velocity), displacement[k],
+                                    -attraction * step[k] / g)
+
+
+@jit
+def pol_ind_varying_run(step, displacement, step_velocity, separation, normal_load, height,
+                        count, radius, e_star, g_star, static_coefficient, kinetic_coefficient,
+                        attraction, stribeck_velocity, stribeck_exponent, shape,
+                        element_force, slip_direction, out_force):
+    """Pol-Ind elements under a time-varying normal load (MODELS.md 7.5 **Choice**).
+
+    At every sample whose separation changed, ``(k_j, W_j)`` are re-evaluated
+    for the fixed element heights, the capacities normalised so that
+    ``sum W_j = mu_s N(t)`` exactly (``alpha_j = W_j / sum W``), and an
+    element force beyond its new capacity is clipped to it (an element out
+    of contact carries nothing and restarts stuck from zero).  Then the step
+    ending at that sample runs the GMS law with
+    ``g(v) = N(t) [mu_k + (mu_s - mu_k) shape(v)]``.
+    """
+    n = height.shape[0]
+    stiffness = np.zeros(n)
+    breakaway = np.zeros(n)
+    weight = np.zeros(n)
+    inverse_weight = np.zeros(n)
+    for k in range(step.shape[0]):
+        if k == 0 or separation[k] != separation[k - 1] or normal_load[k] != normal_load[k - 1]:
+            element_properties(height, count, separation[k], radius, e_star, g_star,
+                               static_coefficient, stiffness, breakaway)
+            total = element_sum(breakaway)
+            capacity_scale = static_coefficient * normal_load[k]
+            for j in range(n):
+                was_in_contact = weight[j] > 0.0 or k == 0
+                weight[j] = breakaway[j] / total
+                inverse_weight[j] = 1.0 / weight[j] if weight[j] > 0.0 else np.inf
+                capacity = weight[j] * capacity_scale
+                element_force[j] = min(max(element_force[j], -capacity), capacity)
+                if not (was_in_contact and capacity > 0.0):
+                    # Out of contact, or just back in: no force, and it starts stuck.
+                    slip_direction[j] = 0.0
+        velocity = step_velocity[k] if k > 0 else 0.0
+        if velocity == 0.0:
+            out_force[k] = element_sum(element_force)
+            continue
+        g = stribeck_curve(velocity, kinetic_coefficient * normal_load[k],
+                           static_coefficient * normal_load[k], stribeck_velocity,
                            stribeck_exponent, shape)
         out_force[k] = gms_elements(element_force, slip_direction, stiffness, weight,
                                     inverse_weight, g, sign(velocity), displacement[k],

@@ -7,9 +7,10 @@ from polind.models.lugre import LuGre
 from polind.models.maxwell_slip import MaxwellSlip
 from polind.models.gms import GMS
 from polind.models.leuven import Leuven
+from polind.models.pol_ind import PolInd
 
 __all__ = ["MODEL_TYPES", "FrictionModel", "Path", "State", "Coulomb", "Stribeck", "Dahl",
-           "LuGre", "MaxwellSlip", "GMS", "Leuven"]
+           "LuGre", "MaxwellSlip", "GMS", "Leuven", "PolInd"]
 
 from polind.errors import InputError as _InputError
 from polind.errors import describe as _describe

@@ -1,0 +1,236 @@
+"""The Pol-Ind model (MODELS.md 7): GMS elements built from asperity mechanics.
+
+Approach I (single asperities, Hertz and elastic slip) and the
+Greenwood–Williamson statistics live in :mod:`polind.contact`; approach III
+(the iterative separation solver) too.  This module assembles them into the
+modified Maxwell-slip structure of approach II and runs it with the GMS
+rate-state law of MODELS.md 7.6 on the project's one element machinery
+(:mod:`polind.kernels.elements`).
+
+**Choices** where the spec leaves room (MODELS.md 7.5 gives the rules for a
+time-varying load):
+
+* The element table (bin or asperity heights ``h_j`` and counts ``n_j``) is
+  built once per run at the separation of the run's *largest* normal load,
+  so every asperity that touches during the run has an element; the table
+  is fixed in ``h`` and carried in the state.  ``(k_j, W_j)`` follow
+  ``d(t)``; elements out of contact carry nothing and restart from zero.
+* Capacities are normalised at every sample so that ``sum W_j = mu_s N(t)``
+  exactly (Amontons' law), ``alpha_j = W_j / sum W``.
+* A continuation (``state=``) reuses the state's table; a load above the
+  load the table was built for is an error (start the first chunk with the
+  largest load, or pass the whole record at once).
+"""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+
+from polind.errors import InputError
+from polind.kernels.elements import gms_run, pol_ind_varying_run
+from polind.kernels.stribeck import SHAPE_CODES
+from polind.models.base import FrictionModel, register
+from polind.models.params import Param, Table, VISCOUS
+
+_SURFACE = Table("surface", (
+    Param("asperity_density", unit="1/m^2"),
+    Param("nominal_area", unit="m^2"),
+    Param("asperity_radius", unit="m"),
+    Param("height_std", unit="m"),
+))
+_MATERIALS = Table("materials", (
+    Param("youngs_modulus", kind="pair", unit="Pa"),
+    Param("poisson_ratio", kind="pair", bound="poisson"),
+))
+_DISCRETISATION = Table("discretisation", (
+    Param("summation", kind="str", default="statistical", choices=("statistical", "direct")),
+    Param("elements", kind="int", default=64),
+    Param("seed", kind="int", bound="nonnegative", default=0),
+    Param("heights_file", kind="path", default=None),
+), default={})
+
+MAX_ELEMENTS = 1_000_000
+
+
+def default_table() -> dict:
+    """The default Pol-Ind ``[model]`` table of INTERFACE.md (a steel pair under 100 N)."""
+    return {
+        "type": "pol-ind",
+        "normal_load": 100.0,
+        "static_coefficient": 0.15,
+        "kinetic_coefficient": 0.10,
+        "stribeck_velocity": 1e-3,
+        "stribeck_exponent": 2.0,
+        "attraction": 1e4,
+        "viscous_coefficient": 0.0,
+        "surface": {"asperity_density": 1e10, "nominal_area": 1e-4,
+                    "asperity_radius": 50e-6, "height_std": 0.5e-6},
+        "materials": {"youngs_modulus": [210e9, 210e9], "poisson_ratio": [0.3, 0.3]},
+        "discretisation": {"summation": "statistical", "elements": 64, "seed": 0},
+    }
+
+
+@register
+class PolInd(FrictionModel):
+    """The Pol-Ind friction model (MODELS.md 7.6).
+
+    Each element ``j`` carries ``n_j`` asperities at interference
+    ``delta_j``: stiffness ``k_j = n_j 8 G* sqrt(R delta_j)``, share of the
+    load ``alpha_j = n_j P(delta_j) / N``; it sticks with ``dF_j/dt = k_j v``
+    until ``|F_j| >= alpha_j |s(v)|`` and slips with
+    ``dF_j/dt = sgn(v) C (1 - F_j/(alpha_j s(v)))``, where
+    ``s(v) = sgn(v) N [mu_k + (mu_s - mu_k) exp(-|v/vs|^delta)]``.
+    ``F = sum F_j + sigma2 v``.
+
+    Parameters (model-file keys; SI units)
+    --------------------------------------
+    normal_load : float
+        N [N]; a ``normal_load`` array given to :func:`polind.simulate`
+        replaces it sample by sample.
+    static_coefficient, kinetic_coefficient : float
+        mu_s and mu_k.
+    stribeck_velocity : float
+        vs [m/s].
+    stribeck_exponent : float, default 2
+        delta.
+    stribeck_shape : {"exponential", "rational"}
+    attraction : float
+        C [N/s].
+    viscous_coefficient : float, default 0
+        sigma2 [N s/m].
+    surface : table
+        ``asperity_density`` eta [1/m^2], ``nominal_area`` A0 [m^2],
+        ``asperity_radius`` R [m], ``height_std`` sigma_a [m].
+    materials : table
+        ``youngs_modulus`` [E1, E2] [Pa], ``poisson_ratio`` [nu1, nu2].
+    discretisation : table
+        ``summation`` "statistical" (``elements`` height bins) or "direct"
+        (``seed`` for Gaussian summit heights, or ``heights_file``: a CSV
+        with a column ``h`` of measured summit heights [m]).
+
+    Examples
+    --------
+    >>> import numpy as np, polind
+    >>> from polind.models.pol_ind import default_table
+    >>> model = polind.model_from_dict({"model": default_table()})
+    >>> t = np.linspace(0.0, 1.0, 2001)
+    >>> res = polind.simulate(model, t, v=np.full_like(t, 0.01))
+    >>> round(float(res.force[-1]), 9)       # mu_k N on the Stribeck curve at v = 10 vs
+    10.0
+    """
+
+    type = "pol-ind"
+    takes_normal_load = True
+    parameters = (
+        Param("normal_load", unit="N"),
+        Param("static_coefficient"),
+        Param("kinetic_coefficient"),
+        Param("stribeck_velocity", unit="m/s"),
+        Param("stribeck_exponent", default=2.0),
+        Param("stribeck_shape", kind="str", default="exponential",
+              choices=("exponential", "rational")),
+        Param("attraction", unit="N/s"),
+        VISCOUS,
+        _SURFACE,
+        _MATERIALS,
+        _DISCRETISATION,
+    )
+
+    @classmethod
+    def _check(cls, params):
+        count = params["discretisation"]["elements"]
+        if not 1 <= count <= MAX_ELEMENTS:
+            raise InputError(f"The 'discretisation.elements' parameter of pol-ind must be in the "
+                             f"range [1, {MAX_ELEMENTS}]. Got {count} instead.")
+        if params["discretisation"].get("heights_file") and \
+                params["discretisation"]["summation"] != "direct":
+            raise InputError("The 'discretisation.heights_file' parameter of pol-ind needs "
+                             "summation = \"direct\". Got \"statistical\" instead.")
+
+    # --- contact mechanics (computed on first use, then cached) -----------------------
+
+    @functools.cached_property
+    def _contacts(self):
+        return {}
+
+    def contact(self, normal_load=None):
+        """The contact at a normal load [N] (default: the model's): surface, separation, table.
+
+        Built on first use and kept (the model is immutable), one per load.
+        """
+        from polind.contact import build_contact
+
+        load = self._params["normal_load"] if normal_load is None else float(normal_load)
+        if load not in self._contacts:
+            if len(self._contacts) >= 8:
+                self._contacts.pop(next(iter(self._contacts)))
+            self._contacts[load] = build_contact({**self._params, "normal_load": load})
+        return self._contacts[load]
+
+    def element_table(self, normal_load=None):
+        """The modified Maxwell-slip element table at a normal load (MODELS.md 7.5)."""
+        return self.contact(normal_load).elements
+
+    # --- the stepping contract --------------------------------------------------------
+
+    def initial_variables(self, normal_load=None):
+        build_load = self._params["normal_load"] if normal_load is None \
+            else float(np.max(normal_load))
+        table = self.element_table(build_load)
+        n = table.stiffness.shape[0]
+        return {"element_force": np.zeros(n), "slip_direction": np.zeros(n),
+                "element_height": np.array(table.heights, dtype=np.float64),
+                "element_count": np.array(table.asperities, dtype=np.float64),
+                "table_load": np.array([build_load])}
+
+    def check_state(self, state):
+        if state.model_type != self.type:
+            super().check_state(state)
+        keys = ("element_force", "slip_direction", "element_height", "element_count",
+                "table_load")
+        for key in keys:
+            if key not in state.variables:
+                raise InputError(f"The state lacks its '{key}' entry for a pol-ind model.")
+        n = state.variables["element_force"].shape[0]
+        for key in keys[1:4]:
+            if state.variables[key].shape[0] != n:
+                raise InputError(f"The state's '{key}' has {state.variables[key].shape[0]} "
+                                 f"entries; its 'element_force' has {n}.")
+
+    def _advance(self, path, state, normal_load):
+        p = self._params
+        n_samples = path.t.shape[0]
+        table_load = float(state.variables["table_load"][0])
+        if normal_load is None:
+            normal_load = np.full(n_samples, p["normal_load"])
+        peak = float(np.max(normal_load))
+        if peak > table_load * (1.0 + 1e-12):
+            raise InputError(f"The 'normal_load' reaches {peak!r} N but the state's element "
+                             f"table was built for at most {table_load!r} N; start the first "
+                             f"chunk with the largest load or simulate the record at once.")
+        shape = SHAPE_CODES[p["stribeck_shape"]]
+        out = np.empty(n_samples)
+        forces = state.variables["element_force"]
+        slip = state.variables["slip_direction"]
+        if np.all(normal_load == table_load):
+            table = self.element_table(table_load)
+            gms_run(path.step, path.displacement, path.step_velocity, table.stiffness,
+                    table.weight, p["attraction"], p["kinetic_coefficient"] * table_load,
+                    p["static_coefficient"] * table_load, p["stribeck_velocity"],
+                    p["stribeck_exponent"], shape, forces, slip, out)
+        else:
+            from polind.contact import solve_separation_series
+
+            contact = self.contact(table_load)
+            table = contact.elements
+            separation = solve_separation_series(contact.surface, normal_load,
+                                                 initial=contact.separation)
+            pol_ind_varying_run(
+                path.step, path.displacement, path.step_velocity, separation, normal_load,
+                state.variables["element_height"], state.variables["element_count"],
+                table.asperity_radius, table.E_star, table.G_star, p["static_coefficient"],
+                p["kinetic_coefficient"], p["attraction"], p["stribeck_velocity"],
+                p["stribeck_exponent"], shape, forces, slip, out)
+        return out + p["viscous_coefficient"] * path.sample_velocity
