@@ -1,0 +1,312 @@
+"""The Pol-Ind model (MODELS.md 7.5-7.6): every limit of 7.6 as a test.
+
+References are closed forms, the plain GMS oracle of ``tests/oracles.py`` run
+on the model's own element table, and (for a time-varying load) a plain
+Python stepper written here from the rules of 7.5 with its own separation
+solve (scipy ``brentq`` on the Greenwood-Williamson load written with
+``quad``), so nothing is checked against polind's own earlier output.
+"""
+
+import copy
+import json
+import math
+
+import numpy as np
+import pytest
+from scipy import integrate, optimize
+
+import polind
+import oracles
+from polind.models.pol_ind import default_table
+
+
+def pol_ind(**changes):
+    table = default_table()
+    for key, value in changes.items():
+        if "." in key:
+            outer, inner = key.split(".")
+            table[outer][inner] = value
+        else:
+            table[key] = value
+    return polind.model_from_dict({"model": table})
+
+
+def stribeck(v, n=100.0, mu_s=0.15, mu_k=0.10, vs=1e-3, delta=2.0, shape="exponential"):
+    ratio = abs(v / vs) ** delta
+    decay = math.exp(-ratio) if shape == "exponential" else 1.0 / (1.0 + ratio)
+    return n * (mu_k + (mu_s - mu_k) * decay)
+
+
+def table_as_gms(model, **changes):
+    p = model.params
+    table = model.element_table()
+    n = p["normal_load"]
+    gms = {"type": "gms", "stiffness": table.stiffness.tolist(),
+           "weight": table.weight.tolist(), "attraction": p["attraction"],
+           "coulomb_force": p["kinetic_coefficient"] * n,
+           "static_force": p["static_coefficient"] * n,
+           "stribeck_velocity": p["stribeck_velocity"],
+           "stribeck_exponent": p["stribeck_exponent"],
+           "stribeck_shape": p["stribeck_shape"],
+           "viscous_coefficient": p["viscous_coefficient"]}
+    gms.update(changes)
+    return gms
+
+
+@pytest.mark.parametrize("shape", ["exponential", "rational"])
+@pytest.mark.parametrize("velocity", [-3e-2, -1e-3, -2e-4, 5e-4, 1e-3, 4e-3, 1e-1])
+def test_steady_sliding_follows_the_stribeck_curve(shape, velocity):
+    model = pol_ind(stribeck_shape=shape, viscous_coefficient=2.0)
+    t = np.linspace(0.0, 2.0, 4001)
+    res = polind.simulate(model, t, v=np.full_like(t, velocity))
+    want = stribeck(velocity, shape=shape) * np.sign(velocity) + 2.0 * velocity
+    assert res.force[-1] == pytest.approx(want, rel=1e-9)
+
+
+def test_amontons_law_sum_of_breakaway_forces_is_mu_s_n():
+    for load in (0.5, 7.0, 100.0, 3.3e3):
+        table = pol_ind(normal_load=load).element_table()
+        assert table.breakaway_force.sum() == pytest.approx(0.15 * load, rel=1e-9)
+        assert table.weight.sum() == pytest.approx(1.0, rel=1e-12)
+
+
+def test_breakaway_force_at_vanishing_velocity_is_mu_s_n():
+    # A slow ramp (v = 1e-3 vs): every element reaches alpha_j g(v) with
+    # g(v) = N [mu_k + (mu_s - mu_k) exp(-1e-6)], i.e. mu_s N to 1e-7.
+    model = pol_ind()
+    velocity = 1e-6
+    table = model.element_table()
+    travel = 2.0 * np.max(table.breakaway_force / table.stiffness)
+    t = np.linspace(0.0, travel / velocity, 2001)
+    res = polind.simulate(model, t, x=velocity * t)
+    assert res.force.max() == pytest.approx(stribeck(velocity), rel=1e-9)
+    assert res.force.max() == pytest.approx(15.0, rel=1e-6)
+
+
+def test_presliding_virgin_curve_is_the_direct_sum_of_elastic_slip_asperity_laws():
+    # From rest, a monotone displacement at |v| << vs: stuck elements follow
+    # k_j u, saturated ones sit at alpha_j g(v) = W_j (1 - 1e-12).
+    model = pol_ind()
+    table = model.element_table()
+    slip = table.breakaway_force / table.stiffness
+    u = np.linspace(0.0, 1.5 * slip.max(), 3001)
+    t = u / 1e-9
+    res = polind.simulate(model, t, x=u)
+    direct_sum = np.array([np.sum(np.minimum(table.stiffness * ui, table.breakaway_force))
+                           for ui in u])
+    np.testing.assert_allclose(res.force, direct_sum, rtol=1e-9, atol=1e-12 * 15.0)
+    # ... and the element law is the asperity law of 7.2 / 7.5 (not a refit).
+    radius, e_star, g_star = table.asperity_radius, table.E_star, table.G_star
+    delta = table.interference
+    np.testing.assert_allclose(table.stiffness,
+                               table.asperities * 8 * g_star * np.sqrt(radius * delta), rtol=1e-12)
+    np.testing.assert_allclose(table.breakaway_force,
+                               table.asperities * 0.15 * 4 / 3 * e_star * np.sqrt(radius)
+                               * delta ** 1.5, rtol=1e-12)
+
+
+def nested_reversals(scale, samples=400):
+    """A presliding path with nested reversals; every reversal is a sample."""
+    corners = scale * np.array([0.0, 1.0, -0.6, 0.5, -0.2, 0.3, -0.6, 0.8, -1.0, 1.0])
+    x = np.concatenate([np.linspace(a, b, samples, endpoint=False)
+                        for a, b in zip(corners[:-1], corners[1:])] + [corners[-1:]])
+    return np.arange(x.size) * 1e-3, x
+
+
+def test_with_large_attraction_and_slow_motion_presliding_is_its_maxwell_slip_model():
+    model = pol_ind(attraction=1e14)
+    table = model.element_table()
+    t, x = nested_reversals(0.8 * np.max(table.breakaway_force / table.stiffness))
+    t = t * 1e3   # |v| ~ 1e-10 m/s << vs
+    ms = polind.model_from_dict({"model": {"type": "maxwell-slip",
+                                           "stiffness": table.stiffness.tolist(),
+                                           "breakaway_force": table.breakaway_force.tolist()}})
+    got = polind.simulate(model, t, x=x).force
+    want = oracles.simulate({"type": "maxwell-slip", "stiffness": table.stiffness.tolist(),
+                             "breakaway_force": table.breakaway_force.tolist()}, t, x=x).force
+    np.testing.assert_allclose(got, want, rtol=1e-9, atol=1e-9 * 15.0)
+    np.testing.assert_allclose(polind.simulate(ms, t, x=x).force, want, rtol=1e-9,
+                               atol=1e-9 * 15.0)
+    # Non-local memory: back at the outer reversal x = +0.8 D_max the force is the first peak.
+    peaks = np.flatnonzero(x == x.max())
+    assert got[peaks[-1]] == pytest.approx(got[peaks[0]], rel=1e-9)
+
+
+@pytest.mark.parametrize("motion", ["x", "v"])
+def test_matches_the_gms_oracle_on_its_own_element_table(motion):
+    model = pol_ind()
+    rng = np.random.default_rng(4)
+    t = np.cumsum(rng.uniform(1e-4, 2e-3, 1500))
+    t -= t[0]
+    if motion == "x":
+        kwargs = {"x": 2e-7 * np.sin(2 * np.pi * 3 * t) + 5e-8 * rng.standard_normal(t.size)}
+    else:
+        kwargs = {"v": 3e-3 * np.sin(2 * np.pi * 2 * t) + 1e-3 * rng.standard_normal(t.size)}
+    got = polind.simulate(model, t, **kwargs).force
+    want = oracles.simulate(table_as_gms(model), t, **kwargs).force
+    np.testing.assert_allclose(got, want, rtol=1e-9, atol=1e-9 * 15.0)
+
+
+# --- a time-varying normal load (MODELS.md 7.5 Choice) ------------------------------------
+
+def gw_load(d, p):
+    """N(d) of the statistical surface, by quadrature in the normalised height."""
+    s = p["surface"]
+    e1, e2 = p["materials"]["youngs_modulus"]
+    n1, n2 = p["materials"]["poisson_ratio"]
+    e_star = 1.0 / ((1 - n1 ** 2) / e1 + (1 - n2 ** 2) / e2)
+    sigma = s["height_std"]
+    f32 = integrate.quad(lambda u: (u - d / sigma) ** 1.5 * math.exp(-u * u / 2)
+                         / math.sqrt(2 * math.pi), d / sigma, np.inf, epsabs=0, epsrel=1e-13)[0]
+    return (4 / 3 * s["asperity_density"] * s["nominal_area"] * e_star
+            * math.sqrt(s["asperity_radius"]) * sigma ** 1.5 * f32)
+
+
+def reference_varying_load(model, t, x, load):
+    """Plain stepper of 7.5-7.6 with elements fixed in h, re-solved d(t)."""
+    p = model.params
+    table = model.element_table(float(load.max()))
+    heights, counts = table.heights, table.asperities
+    radius, e_star, g_star = table.asperity_radius, table.E_star, table.G_star
+    mu_s, mu_k, c = p["static_coefficient"], p["kinetic_coefficient"], p["attraction"]
+    sigma = p["surface"]["height_std"]
+    force_el = np.zeros(heights.size)
+    slipping = np.zeros(heights.size)
+    in_contact = np.ones(heights.size, dtype=bool)
+    out = np.zeros(t.size)
+    for k in range(t.size):
+        d = optimize.brentq(lambda d: gw_load(d, p) - load[k], -4 * sigma, 8 * sigma,
+                            xtol=1e-22, rtol=1e-15)
+        delta = np.maximum(heights - d, 0.0)
+        stiffness = counts * 8 * g_star * np.sqrt(radius * delta)
+        breakaway = counts * mu_s * 4 / 3 * e_star * np.sqrt(radius) * delta ** 1.5
+        alpha = breakaway / breakaway.sum()
+        capacity = alpha * mu_s * load[k]
+        now = delta > 0
+        force_el = np.clip(force_el, -capacity, capacity)
+        slipping[~now | (now & ~in_contact)] = 0.0     # out of contact, or new: stuck at 0
+        in_contact = now
+        if k > 0:
+            h = t[k] - t[k - 1]
+            v = (x[k] - x[k - 1]) / h
+            if v != 0:
+                g = stribeck(v, n=load[k], mu_s=mu_s, mu_k=mu_k)
+                direction = np.sign(v)
+                for j in range(heights.size):
+                    if alpha[j] == 0.0:
+                        force_el[j] = 0.0
+                        continue
+                    target = direction * alpha[j] * g
+                    if slipping[j] != direction:
+                        slipping[j] = 0.0
+                    if slipping[j] == 0.0 and direction * force_el[j] < alpha[j] * g:
+                        trial = force_el[j] + stiffness[j] * v * h
+                        if direction * trial >= alpha[j] * g:
+                            force_el[j], slipping[j] = target, direction
+                        else:
+                            force_el[j] = trial
+                    else:
+                        slipping[j] = direction
+                        force_el[j] = target + (force_el[j] - target) * math.exp(
+                            -c * h / (alpha[j] * g))
+        out[k] = force_el.sum()
+    return out
+
+
+def test_time_varying_load_follows_the_rules_of_7_5():
+    model = pol_ind(**{"discretisation.elements": 16})
+    t = np.linspace(0.0, 0.2, 241)
+    x = 3e-7 * np.sin(2 * np.pi * 10 * t) + 2e-3 * t
+    load = 100.0 + 60.0 * np.sin(2 * np.pi * 7 * t) ** 2 - 30.0 * (t > 0.1)
+    got = polind.simulate(model, t, x=x, normal_load=load).force
+    want = reference_varying_load(model, t, x, load)
+    np.testing.assert_allclose(got, want, rtol=1e-7, atol=1e-8 * 160.0)
+    # Sliding friction scales with the load it has at each sample (Amontons).
+    sliding = np.abs(np.gradient(x, t)) > 1e-3
+    assert np.all(np.abs(got[sliding]) <= 0.15 * load[sliding] * (1 + 1e-12))
+
+
+def test_constant_load_array_equals_the_constant_load_model():
+    model = pol_ind()
+    t = np.linspace(0.0, 0.5, 501)
+    x = 4e-7 * np.sin(2 * np.pi * 4 * t)
+    a = polind.simulate(model, t, x=x).force
+    b = polind.simulate(model, t, x=x, normal_load=np.full_like(t, 100.0)).force
+    np.testing.assert_array_equal(a, b)
+
+
+@pytest.mark.parametrize("varying", [False, True])
+def test_chunked_run_equals_one_run(varying):
+    model = pol_ind(**{"discretisation.elements": 32})
+    t = np.linspace(0.0, 0.4, 801)
+    x = 3e-7 * np.sin(2 * np.pi * 5 * t) + 1e-3 * t
+    load = 100.0 + 20 * np.cos(2 * np.pi * 3 * t) if varying else None   # peak in chunk 1
+    whole = polind.simulate(model, t, x=x, normal_load=load)
+    forces = []
+    state = None
+    for lo, hi in [(0, 300), (299, 550), (549, 801)]:
+        part = polind.simulate(model, t[lo:hi], x=x[lo:hi], state=state,
+                               normal_load=None if load is None else load[lo:hi])
+        state = polind.State.from_dict(json.loads(json.dumps(part.final_state.to_dict())))
+        forces.append(part.force if not forces else part.force[1:])
+        if len(forces) > 1:
+            assert part.force[0] == previous_last
+        previous_last = part.force[-1]
+    np.testing.assert_allclose(np.concatenate(forces), whole.force, rtol=1e-10, atol=1e-12)
+
+
+def test_continuation_above_the_tables_load_is_an_error():
+    model = pol_ind()
+    t = np.linspace(0.0, 0.1, 11)
+    res = polind.simulate(model, t, x=1e-8 * t, normal_load=np.full(11, 50.0))
+    with pytest.raises(polind.InputError, match="normal_load"):
+        polind.simulate(model, t + 0.1, x=1e-8 * t, normal_load=np.full(11, 80.0),
+                        state=res.final_state)
+
+
+def test_direct_summation_runs_on_sampled_asperities():
+    model = pol_ind(**{"discretisation.summation": "direct"})
+    table = model.element_table()
+    assert np.all(table.asperities == 1.0)
+    assert table.breakaway_force.sum() == pytest.approx(15.0, rel=1e-9)
+    t = np.linspace(0.0, 1.0, 2001)
+    res = polind.simulate(model, t, v=np.full_like(t, 0.01))
+    assert res.force[-1] == pytest.approx(stribeck(0.01), rel=1e-9)
+
+
+@pytest.mark.parametrize("key, value, fragment", [
+    ("normal_load", -1.0, "normal_load"),
+    ("surface.height_std", 0.0, "surface.height_std"),
+    ("materials.poisson_ratio", [0.3, 0.7], "materials.poisson_ratio"),
+    ("materials.youngs_modulus", [210e9], "materials.youngs_modulus"),
+    ("discretisation.summation", "fractal", "discretisation.summation"),
+    ("discretisation.elements", 0, "discretisation.elements"),
+    ("attraction", float("nan"), "attraction"),
+])
+def test_bad_parameters_name_the_key(key, value, fragment):
+    with pytest.raises(polind.InputError, match=fragment.replace(".", r"\.")):
+        pol_ind(**{key: value})
+
+
+def test_unknown_nested_key_is_named():
+    table = default_table()
+    table["surface"]["roughness"] = 1.0
+    with pytest.raises(polind.InputError, match=r"surface\.roughness"):
+        polind.model_from_dict({"model": table})
+
+
+def test_normal_load_array_is_for_pol_ind_only_and_must_be_positive():
+    t = np.linspace(0.0, 1.0, 5)
+    coulomb = polind.model_from_dict({"model": {"type": "coulomb", "coulomb_force": 1.0}})
+    with pytest.raises(polind.InputError, match="normal_load"):
+        polind.simulate(coulomb, t, x=t, normal_load=np.ones(5))
+    with pytest.raises(polind.InputError, match="normal_load"):
+        polind.simulate(pol_ind(), t, x=t, normal_load=np.array([1.0, 2.0, -1.0, 1.0, 1.0]))
+
+
+def test_simulate_does_not_mutate_the_model():
+    model = pol_ind()
+    before = copy.deepcopy(model.to_dict())
+    t = np.linspace(0.0, 0.1, 101)
+    polind.simulate(model, t, x=1e-7 * np.sin(60 * t), normal_load=90 + 10 * t)
+    assert model.to_dict() == before
