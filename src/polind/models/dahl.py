@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from polind.kernels.single import dahl_run
 from polind.models.base import FrictionModel, register
 from polind.models.params import Param
 
@@ -40,6 +39,8 @@ class Dahl(FrictionModel):
         return {"friction": np.zeros(1)}
 
     def _advance(self, path, state, normal_load):
+        # Kernels load numba: imported on first use so `import polind` stays fast.
+        from polind.kernels.single import dahl_run
         p = self._params
         out = np.empty(path.t.shape[0])
         dahl_run(path.displacement, p["stiffness"], p["coulomb_force"], p["exponent"],

@@ -4,8 +4,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from polind.kernels.elements import gms_run
-from polind.kernels.stribeck import SHAPE_CODES
 from polind.models.base import FrictionModel, register
 from polind.models.params import Param, STRIBECK_PARAMS, VISCOUS, same_length, sums_to
 
@@ -52,6 +50,9 @@ class GMS(FrictionModel):
         return {"element_force": np.zeros(n), "slip_direction": np.zeros(n)}
 
     def _advance(self, path, state, normal_load):
+        # Kernels load numba: imported on first use so `import polind` stays fast.
+        from polind.kernels.elements import gms_run
+        from polind.kernels.stribeck import SHAPE_CODES
         p = self._params
         out = np.empty(path.t.shape[0])
         gms_run(path.step, path.displacement, path.step_velocity, self._array("stiffness"),

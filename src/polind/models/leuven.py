@@ -4,8 +4,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from polind.kernels.single import leuven_run
-from polind.kernels.stribeck import SHAPE_CODES
 from polind.models.base import FrictionModel, register
 from polind.models.params import Param, STRIBECK_PARAMS, VISCOUS, same_length, sums_to
 
@@ -58,6 +56,9 @@ class Leuven(FrictionModel):
                 "deflection": np.zeros(1), "deflection_rate": np.zeros(1)}
 
     def _advance(self, path, state, normal_load):
+        # Kernels load numba: imported on first use so `import polind` stays fast.
+        from polind.kernels.single import leuven_run
+        from polind.kernels.stribeck import SHAPE_CODES
         p = self._params
         out = np.empty(path.t.shape[0])
         z_and_rate = np.concatenate([state.variables["deflection"],

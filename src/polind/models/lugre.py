@@ -4,8 +4,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from polind.kernels.single import lugre_run
-from polind.kernels.stribeck import SHAPE_CODES
 from polind.models.base import FrictionModel, register
 from polind.models.params import Param, STRIBECK_PARAMS, VISCOUS
 
@@ -54,6 +52,9 @@ class LuGre(FrictionModel):
         return {"deflection": np.zeros(1)}
 
     def _advance(self, path, state, normal_load):
+        # Kernels load numba: imported on first use so `import polind` stays fast.
+        from polind.kernels.single import lugre_run
+        from polind.kernels.stribeck import SHAPE_CODES
         p = self._params
         out = np.empty(path.t.shape[0])
         lugre_run(path.step, path.step_velocity, path.sample_velocity, p["bristle_stiffness"],

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from polind.kernels.elements import maxwell_slip_run
 from polind.models.base import FrictionModel, register
 from polind.models.params import Param, VISCOUS, same_length
 
@@ -58,6 +57,8 @@ class MaxwellSlip(FrictionModel):
         return {"element_force": np.zeros(len(self._params["stiffness"]))}
 
     def _advance(self, path, state, normal_load):
+        # Kernels load numba: imported on first use so `import polind` stays fast.
+        from polind.kernels.elements import maxwell_slip_run
         out = np.empty(path.t.shape[0])
         maxwell_slip_run(path.displacement, self._array("stiffness"),
                          self._array("breakaway_force"), state.variables["element_force"], out)

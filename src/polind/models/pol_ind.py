@@ -29,8 +29,6 @@ import functools
 import numpy as np
 
 from polind.errors import InputError
-from polind.kernels.elements import gms_run, pol_ind_varying_run
-from polind.kernels.stribeck import SHAPE_CODES
 from polind.models.base import FrictionModel, register
 from polind.models.params import Param, Table, VISCOUS
 
@@ -200,6 +198,9 @@ class PolInd(FrictionModel):
                                  f"entries; its 'element_force' has {n}.")
 
     def _advance(self, path, state, normal_load):
+        # Kernels load numba: imported on first use so `import polind` stays fast.
+        from polind.kernels.elements import gms_run, pol_ind_varying_run
+        from polind.kernels.stribeck import SHAPE_CODES
         p = self._params
         n_samples = path.t.shape[0]
         table_load = float(state.variables["table_load"][0])
