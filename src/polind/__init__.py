@@ -11,7 +11,9 @@ The public API (INTERFACE.md)::
 from polind.errors import InputError
 from polind.models import MODEL_TYPES, FrictionModel, State, load_model, model_from_dict
 from polind.simulate import SimulationResult, simulate
+from polind.dynamics import System, SystemResult, load_system, simulate_system
 
 __all__ = ["InputError", "MODEL_TYPES", "FrictionModel", "State", "SimulationResult",
-           "load_model", "model_from_dict", "simulate"]
+           "load_model", "model_from_dict", "simulate", "System", "SystemResult",
+           "load_system", "simulate_system"]
 __version__ = "0.1.0"

@@ -227,7 +227,36 @@ def bench(models):
             bar.update()
 
 
-# demo, dynamics and fit (INTERFACE.md) join here, one function each.
+@cli.command()
+@model_argument
+@click.option("--system", "-s", "system_path", required=True, type=_file_path(),
+              metavar="SYSTEM.toml", help="The [system] file (MODELS.md 8): mass, duration, "
+                                          "time_step, spring_drive and/or force.")
+@output_option
+def dynamics(model_path, system_path, output_path):
+    """A one-degree-of-freedom system: a mass driven by a spring and/or a force.
+
+    Writes OUT.csv with the header t,x,v,F,F_applied (SI units).
+    """
+    import polind
+    from polind import io
+
+    check_output_path(output_path)
+    model = load_model(model_path)
+    with blame(system_path):
+        system = polind.load_system(system_path)
+    steps = len(system.times) - 1
+    with progress(total=steps, description="dynamics") as bar:
+        def advance(done, total):
+            bar.update(done - bar.n)
+
+        result = polind.simulate_system(model, system, progress=advance)
+    io.write_csv_atomic(output_path, {"t": result.t, "x": result.x, "v": result.v,
+                                      "F": result.force, "F_applied": result.applied})
+    click.echo(f"wrote {output_path}: {len(result.t)} samples")
+
+
+# demo and fit (INTERFACE.md) join here, one function each.
 
 
 # --- the entry point ------------------------------------------------------------------------

@@ -1,0 +1,394 @@
+"""The one-degree-of-freedom integrator of MODELS.md 8 as numba kernels.
+
+A body of mass ``m`` obeys ``m a = F_applied(t, x) - F`` with
+``F_applied = k_d (v_d t - x) + offset + rate t + amplitude sin(2 pi f t)``
+and ``F`` the friction force of any polind model.
+
+The step
+--------
+Over a step of length ``h`` the body moves at a constant *step velocity*
+``w`` (``x_{n+1} = x_n + h w``: the path is linear between samples, as for
+:func:`polind.simulate` with ``x``), and every friction model has an exact
+(or unconditionally stable) update at constant velocity, so the friction
+force at the end of the step is a function ``F(w)`` of the one unknown.  A
+*trial* evaluates it on a scratch copy of the model state; the accepted
+``w`` is *committed* with the same update, so the model state follows the
+body's own path exactly as ``simulate(model, t, x=x)`` advances it.  The
+momentum equation is implicit:
+
+* ``BDF2`` (default): ``(3 x_{n+1} - 4 x_n + x_{n-1}) / 2h = v_{n+1}`` and
+  ``m (3 v_{n+1} - 4 v_n + v_{n-1}) / 2h = F_applied(t_{n+1}, x_{n+1}) - F``;
+  with ``v_{n+1} = (3 w - w_n) / 2`` this is one scalar equation in ``w``.
+  The friction's rate terms (``sigma2 v``, LuGre's ``sigma1 dz/dt``) are taken
+  at ``v_{n+1}``, the body's velocity at the sample (at the step velocity
+  they would cost an O(h) error).  Second order, and L-stable: element
+  springs with ``k h^2 / m`` of 1e6 are damped within a few steps instead of
+  ringing at the Nyquist frequency, which is what the trapezoidal/midpoint
+  rule does (its amplification tends to -1 for stiff modes, and a body that
+  stops gets ``v_{n+1} = -v_n``).
+* ``EULER``: backward Euler, ``v_{n+1} = w``; first order, L-stable, and
+  the whole result is then exactly ``simulate(model, t, x=x)``'s.
+
+BDF2 starts (and, for the memoryless models, restarts after a stuck step)
+with one backward-Euler step.  In both schemes the residual is
+``R(w) = inertia w + F(w) - known`` with ``inertia = c m / h + k_d h > 0``:
+the friction force is the only nonlinear term.
+
+Second order needs the model's own relaxation to be resolved by the step.
+Where it is much faster (a GMS element with ``C h / (alpha_i g) >> 1``,
+LuGre's ``sigma0 |v| h / g >> 1``) the state sits on the steady value of
+the step velocity, i.e. half a step late, and the scheme is first order
+there; it is never worse than backward Euler.
+
+The solve
+---------
+``R`` is evaluated first at ``w = 0`` (nothing moves: the model state is
+unchanged).  ``x_n + h w`` is rounded to a float, so ``w`` only matters to
+within ``ulp(x_n) / h``: if the balancing motion is below half of that, the
+body does not move, ``w = 0`` exactly, and a resting body never creeps by
+itself.  Otherwise the root lies on the side ``-sgn R(0)``; it is bracketed
+(starting from the previous step's velocity, or a Newton step with the
+model's tangent) and refined by secant steps safeguarded by bisection.  For
+the Maxwell-slip family ``F(w)`` is monotone and piecewise linear (the kinks
+are elements changing between stick and slip), so the secant iteration is
+the active-set iteration and ends in a few steps.
+
+Two model families are discontinuous at ``w = 0``:
+
+* Coulomb and Stribeck have the set-valued friction ``[-Fs, Fs]`` there and
+  are evaluated at the step velocity.  If ``|known| <= Fs`` the body is
+  stuck: ``w = 0``, ``v = 0`` and the friction is the balancing force
+  ``known``.
+* GMS (and Pol-Ind): an element in slip relaxes towards ``alpha_i g(0)`` at a
+  rate ``C`` that does not vanish as ``v -> 0+``, while at ``v = 0`` nothing
+  changes.  When the root lies inside that jump the step takes the smallest
+  motion ``x`` can represent in that direction (one unit in the last place),
+  which lets the slip law act; the following steps settle the body
+  elastically.
+
+Arrays
+------
+``scalars`` holds the model parameters in the slots below, ``elements`` the
+element table (rows ``ELEMENT_*``, one column per element) and ``state`` the
+model state, flat (Maxwell-slip: the element forces; GMS: the element forces
+then the slip directions; LuGre: z; Dahl: F; Leuven: the element forces, z,
+dz/dt; memoryless: empty).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from polind.kernels import jit
+from polind.kernels.elements import element_sum, gms_elements, maxwell_slip_elements
+from polind.kernels.single import dahl_run, leuven_run, lugre_run
+from polind.kernels.stribeck import sign, stribeck_curve
+
+# Model families (the ``family`` argument).
+MEMORYLESS = 0     # coulomb, stribeck
+DAHL = 1
+LUGRE = 2
+MAXWELL_SLIP = 3
+GMS = 4            # gms, pol-ind
+LEUVEN = 5
+
+# Momentum schemes (the ``method`` argument).
+BDF2 = 0
+EULER = 1
+
+# Slots of ``scalars``; a family reads the ones it needs.
+FORCE_SCALE = 0        # a typical friction force [N], scales the residual tolerance
+VISCOUS = 1            # sigma2 [N s/m]
+COULOMB = 2            # Fc [N]
+STATIC = 3             # Fs [N]
+STRIBECK_VELOCITY = 4  # vs [m/s]
+STRIBECK_EXPONENT = 5  # delta
+STRIBECK_SHAPE = 6     # polind.kernels.stribeck shape code
+STIFFNESS = 7          # sigma0 [N/m] (LuGre, Dahl)
+DAMPING = 8            # sigma1 [N s/m] (LuGre, Leuven)
+EXPONENT = 9           # alpha (Dahl), n (Leuven)
+ATTRACTION = 10        # C [N/s] (GMS)
+N_SCALARS = 11
+
+# Rows of ``elements``.
+ELEMENT_STIFFNESS = 0  # k_i [N/m]
+ELEMENT_CAPACITY = 1   # W_i [N] (Maxwell-slip, Leuven) or alpha_i (GMS)
+ELEMENT_INVERSE = 2    # 1 / alpha_i (GMS)
+N_ELEMENT_ROWS = 3
+
+RTOL = 1e-13           # residual tolerance relative to |known| + FORCE_SCALE
+MAX_ITERATIONS = 200
+
+
+@jit(inline="always")
+def _elastic_stiffness(stiffness, element_force, capacity):
+    """Summed stiffness of the elements strictly inside their capacity (a tangent)."""
+    total = 0.0
+    for i in range(stiffness.shape[0]):
+        total += stiffness[i] if abs(element_force[i]) < capacity[i] else 0.0
+    return total
+
+
+@jit(inline="always")
+def _stuck_stiffness(stiffness, slip_direction):
+    """Summed stiffness of the GMS elements in stick (a tangent)."""
+    total = 0.0
+    for i in range(stiffness.shape[0]):
+        total += stiffness[i] if slip_direction[i] == 0.0 else 0.0
+    return total
+
+
+@jit
+def advance(family, scalars, elements, state, velocity, displacement, step, sample_velocity,
+            path):
+    """Advance ``state`` in place over one step at constant ``velocity``.
+
+    Returns ``(force, tangent)``: the friction force at the end of the step,
+    its rate terms (``sigma2 v``, LuGre's ``sigma1 dz/dt``) taken at
+    ``sample_velocity`` as :func:`polind.simulate` takes them at the sample's
+    velocity, and an estimate of ``dF/dw`` for a first Newton step.  The
+    memoryless models are evaluated at the step velocity (so that ``w = 0`` is
+    their stick).  ``path`` is a (5, 2) work array through which the
+    single-state models reuse their own path kernels on a one-step path
+    (rows: step, displacement, step velocity, sample velocity, output force).
+    """
+    viscous = scalars[VISCOUS]
+    n = elements.shape[1]
+    if family == MAXWELL_SLIP:
+        element_force = state[:n]
+        stiffness = elements[ELEMENT_STIFFNESS]
+        capacity = elements[ELEMENT_CAPACITY]
+        total = maxwell_slip_elements(element_force, stiffness, capacity, displacement)
+        tangent = step * _elastic_stiffness(stiffness, element_force, capacity)
+        return total + viscous * sample_velocity, tangent + viscous
+    if family == GMS:
+        element_force = state[:n]
+        slip_direction = state[n:2 * n]
+        stiffness = elements[ELEMENT_STIFFNESS]
+        if velocity == 0.0:
+            total = element_sum(element_force)
+        else:
+            g = stribeck_curve(velocity, scalars[COULOMB], scalars[STATIC],
+                               scalars[STRIBECK_VELOCITY], scalars[STRIBECK_EXPONENT],
+                               scalars[STRIBECK_SHAPE])
+            total = gms_elements(element_force, slip_direction, stiffness,
+                                 elements[ELEMENT_CAPACITY], elements[ELEMENT_INVERSE], g,
+                                 sign(velocity), displacement, -scalars[ATTRACTION] * step / g)
+        tangent = step * _stuck_stiffness(stiffness, slip_direction)
+        return total + viscous * sample_velocity, tangent + viscous
+    if family == MEMORYLESS:
+        g = stribeck_curve(velocity, scalars[COULOMB], scalars[STATIC],
+                           scalars[STRIBECK_VELOCITY], scalars[STRIBECK_EXPONENT],
+                           scalars[STRIBECK_SHAPE])
+        return g * sign(velocity) + viscous * velocity, viscous
+    path[0, 1] = step
+    path[1, 1] = displacement
+    path[2, 1] = velocity
+    path[3, 1] = sample_velocity
+    if family == LUGRE:
+        lugre_run(path[0], path[2], path[3], scalars[STIFFNESS], scalars[DAMPING],
+                  scalars[COULOMB], scalars[STATIC], scalars[STRIBECK_VELOCITY],
+                  scalars[STRIBECK_EXPONENT], scalars[STRIBECK_SHAPE], state, path[4])
+        tangent = scalars[STIFFNESS] * step + scalars[DAMPING]
+    elif family == DAHL:
+        dahl_run(path[1], scalars[STIFFNESS], scalars[COULOMB], scalars[EXPONENT], state,
+                 path[4])
+        tangent = scalars[STIFFNESS] * step
+    else:  # LEUVEN
+        capacity = elements[ELEMENT_CAPACITY]
+        leuven_run(path[0], path[2], path[3], elements[ELEMENT_STIFFNESS], capacity,
+                   scalars[EXPONENT], scalars[DAMPING], scalars[COULOMB], scalars[STATIC],
+                   scalars[STRIBECK_VELOCITY], scalars[STRIBECK_EXPONENT],
+                   scalars[STRIBECK_SHAPE], state[:n], state[n:n + 2], path[4])
+        tangent = step * _elastic_stiffness(elements[ELEMENT_STIFFNESS], state[:n], capacity) \
+            + scalars[DAMPING]
+    return path[4, 1] + viscous * sample_velocity, tangent + viscous
+
+
+@jit(inline="always")
+def _trial(family, scalars, elements, state, scratch, velocity, step, sample_slope,
+           sample_offset, path):
+    """``(F(w), tangent)`` without touching ``state`` (the update runs on ``scratch``)."""
+    scratch[:] = state
+    return advance(family, scalars, elements, scratch, velocity, velocity * step, step,
+                   sample_slope * velocity + sample_offset, path)
+
+
+@jit
+def solve_step(family, scalars, elements, state, scratch, path, inertia, known, guess, step,
+               position, sample_slope, sample_offset):
+    """Solve ``inertia w + F(w) = known`` for the step velocity ``w``.
+
+    The body's velocity at the end of the step, at which the friction's rate
+    terms are taken, is ``sample_slope * w + sample_offset``.  Returns
+    ``(w, held)``; ``held`` is true when a memoryless model sticks (``w = 0``
+    and the friction is ``known``).
+
+    ``position`` is ``x_n``.  The new position ``x_n + h w`` is rounded to a
+    float, so ``w`` matters only to within ``quantum = ulp(x_n) / h``: the
+    residual is converged below ``RTOL * (|known| + FORCE_SCALE)`` or below
+    what half a quantum of motion changes, and a body whose balancing motion
+    is below half a quantum stays exactly where it is.
+    """
+    quantum = (np.nextafter(abs(position), np.inf) - abs(position)) / step
+    tolerance = max(RTOL * (abs(known) + scalars[FORCE_SCALE]), 0.5 * inertia * quantum)
+    if family == MEMORYLESS:
+        capacity = scalars[STATIC]  # g(0)
+        if abs(known) <= capacity:
+            return 0.0, True
+        direction = sign(known)
+        residual_at_zero = direction * capacity - known  # R(0+) or R(0-)
+        tangent_at_zero = scalars[VISCOUS]
+    else:
+        force, tangent_at_zero = _trial(family, scalars, elements, state, scratch, 0.0, step,
+                                        sample_slope, sample_offset, path)
+        residual_at_zero = force - known
+        if abs(residual_at_zero) <= max(tolerance,
+                                         0.5 * (inertia + tangent_at_zero) * quantum):
+            return 0.0, False
+        direction = -sign(residual_at_zero)
+    # The least motion in that direction: one unit in the last place of x.
+    least = (np.nextafter(position, direction * np.inf) - position) / step
+    # Bracket: R(low) < 0 < R(high); the root lies on the side `direction` of 0.
+    if direction > 0.0:
+        low, high = 0.0, np.inf
+        low_residual, high_residual = residual_at_zero, np.inf
+    else:
+        low, high = -np.inf, 0.0
+        low_residual, high_residual = -np.inf, residual_at_zero
+    if guess * direction > 0.0:
+        velocity = guess
+    else:
+        velocity = -residual_at_zero / (inertia + tangent_at_zero)
+    last_velocity = 0.0
+    last_residual = residual_at_zero
+    best_velocity = least
+    best_residual = np.inf
+    jump_checked = False
+    for iteration in range(MAX_ITERATIONS):
+        force, tangent = _trial(family, scalars, elements, state, scratch, velocity, step,
+                                sample_slope, sample_offset, path)
+        residual = inertia * velocity + force - known
+        if abs(residual) < best_residual:
+            best_velocity, best_residual = velocity, abs(residual)
+        if abs(residual) <= tolerance:
+            return velocity, False
+        if residual < 0.0:
+            low, low_residual = velocity, residual
+        else:
+            high, high_residual = velocity, residual
+        # Secant through the last two points (exact on a linear piece of F),
+        # else Newton with the model's tangent.
+        slope = (residual - last_residual) / (velocity - last_velocity)
+        if not (slope > 0.0 and slope < np.inf):
+            slope = inertia + tangent
+        candidate = velocity - residual / slope
+        slow = abs(residual) > 0.5 * abs(last_residual)
+        if math.isinf(low) or math.isinf(high):
+            # Still open on one side: when progress stalls, at least double.
+            if slow:
+                if direction > 0.0:
+                    candidate = max(candidate, 2.0 * low)
+                else:
+                    candidate = min(candidate, 2.0 * high)
+        else:
+            if not (low < candidate < high) or slow:
+                if (low == 0.0 or high == 0.0) and not jump_checked:
+                    # The root may sit in the jump of F at w = 0: try the least motion.
+                    jump_checked = True
+                    candidate = least
+                else:
+                    candidate = 0.5 * (low + high)
+            width = high - low
+            if width <= 4e-16 * max(abs(low), abs(high)) or width <= abs(least):
+                if low != 0.0 and high != 0.0:
+                    return best_velocity, False     # a kink at machine resolution
+                # The root lies within the least motion of x.  A jump of F at
+                # w = 0 (a GMS element in slip relaxes at a rate that does not
+                # vanish as w -> 0; the set-valued Coulomb/Stribeck force) needs
+                # the least motion, to let the slip law act; otherwise take the
+                # nearer end.
+                end_velocity = high if direction > 0.0 else low
+                end_residual = high_residual if direction > 0.0 else low_residual
+                continuous_gap = 2.0 * (inertia + tangent_at_zero) * abs(least) + 2.0 * tolerance
+                if family == MEMORYLESS or abs(end_residual - residual_at_zero) > continuous_gap \
+                        or abs(end_residual) < abs(residual_at_zero):
+                    return end_velocity, False
+                return 0.0, False
+        last_velocity, last_residual = velocity, residual
+        velocity = candidate
+    return best_velocity, False
+
+
+@jit(inline="always")
+def applied_force(time, position, drive_stiffness, drive_velocity, offset, rate, amplitude,
+                  angular_frequency):
+    """F_applied(t, x) [N]: the drive spring plus the applied force (MODELS.md 8)."""
+    return (drive_stiffness * (drive_velocity * time - position) + offset + rate * time
+            + amplitude * math.sin(angular_frequency * time))
+
+
+@jit
+def integrate_system(family, scalars, elements, state, t, mass, drive_stiffness,
+                     drive_velocity, offset, rate, amplitude, frequency, method,
+                     x, v, force, applied, start, stop, carry):
+    """Integrate the 1-DOF system over the samples ``t``; fill the output arrays.
+
+    On entry ``x[0]``, ``v[0]`` and ``force[0]`` hold the initial position,
+    velocity and friction force, and ``state`` the model state; on exit
+    ``state`` is the final state.  The model state is committed at the step
+    velocity ``(x[k] - x[k-1]) / (t[k] - t[k-1])`` computed from the stored
+    samples, exactly as ``simulate(model, t, x=x)`` advances it; the rate
+    terms of the force are taken at the body's velocity ``v[k]`` (which is
+    the step velocity under backward Euler).
+
+    The run covers the steps ending at samples ``start .. stop - 1``
+    (``start >= 1``), so a long run can be cut into chunks; ``carry`` holds
+    what a step needs from the one before it besides the samples: the last
+    step velocity and whether a BDF2 history exists (1.0) or not (0.0).
+    Start a run with ``carry = [v[0], 0.0]``.
+    """
+    angular_frequency = 2.0 * math.pi * frequency
+    scratch = np.empty_like(state)
+    path = np.zeros((5, 2))
+    previous_step_velocity = carry[0]
+    history = carry[1] != 0.0   # a BDF2 step needs one regular step before it
+    for k in range(start, stop):
+        step = t[k] - t[k - 1]
+        external = applied_force(t[k], x[k - 1], drive_stiffness, drive_velocity, offset, rate,
+                                 amplitude, angular_frequency)
+        if method == BDF2 and history:
+            # v_{n+1} = (3 w - w_n) / 2 and m (3 v_{n+1} - 4 v_n + v_{n-1}) / 2h = ...
+            sample_slope, sample_offset = 1.5, -0.5 * previous_step_velocity
+            inertia = 2.25 * mass / step + drive_stiffness * step
+            known = mass / step * (0.75 * previous_step_velocity + 2.0 * v[k - 1]
+                                   - 0.5 * v[k - 2]) + external
+        else:
+            sample_slope, sample_offset = 1.0, 0.0
+            inertia = mass / step + drive_stiffness * step
+            known = mass / step * v[k - 1] + external
+        velocity, stuck = solve_step(family, scalars, elements, state, scratch, path, inertia,
+                                     known, previous_step_velocity, step, x[k - 1],
+                                     sample_slope, sample_offset)
+        if stuck:
+            x[k] = x[k - 1]
+            v[k] = 0.0
+            force[k] = known
+            previous_step_velocity = 0.0
+            history = False
+        else:
+            x[k] = x[k - 1] + step * velocity
+            displacement = x[k] - x[k - 1]
+            step_velocity = displacement / step
+            v[k] = sample_slope * step_velocity + sample_offset
+            friction, _ = advance(family, scalars, elements, state, step_velocity,
+                                  displacement, step, v[k], path)
+            force[k] = friction
+            previous_step_velocity = step_velocity
+            history = True
+        applied[k] = applied_force(t[k], x[k], drive_stiffness, drive_velocity, offset, rate,
+                                   amplitude, angular_frequency)
+    carry[0] = previous_step_velocity
+    carry[1] = 1.0 if history else 0.0
