@@ -11,9 +11,27 @@ The public API (INTERFACE.md)::
 from polind.errors import InputError
 from polind.models import MODEL_TYPES, FrictionModel, State, load_model, model_from_dict
 from polind.simulate import SimulationResult, simulate
-from polind.dynamics import System, SystemResult, load_system, simulate_system
 
 __all__ = ["InputError", "MODEL_TYPES", "FrictionModel", "State", "SimulationResult",
            "load_model", "model_from_dict", "simulate", "System", "SystemResult",
            "load_system", "simulate_system"]
 __version__ = "0.1.0"
+
+# The one-degree-of-freedom API loads numba kernels: import it on first use
+# (PEP 562) so `import polind` stays fast.
+_LAZY = {"System": "polind.dynamics", "SystemResult": "polind.dynamics",
+         "load_system": "polind.dynamics", "simulate_system": "polind.dynamics"}
+
+
+def __getattr__(name):
+    if name in _LAZY:
+        import importlib
+
+        value = getattr(importlib.import_module(_LAZY[name]), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'polind' has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_LAZY))
