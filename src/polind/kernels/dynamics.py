@@ -198,7 +198,7 @@ def advance(family, scalars, elements, state, velocity, displacement, step, samp
         tangent = scalars[STIFFNESS] * step
     else:  # LEUVEN
         capacity = elements[ELEMENT_CAPACITY]
-        leuven_run(path[0], path[2], path[3], elements[ELEMENT_STIFFNESS], capacity,
+        leuven_run(path[0], path[2], elements[ELEMENT_STIFFNESS], capacity,
                    scalars[EXPONENT], scalars[DAMPING], scalars[COULOMB], scalars[STATIC],
                    scalars[STRIBECK_VELOCITY], scalars[STRIBECK_EXPONENT],
                    scalars[STRIBECK_SHAPE], state[:n], state[n:n + 2], path[4])

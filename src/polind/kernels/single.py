@@ -106,7 +106,7 @@ def _leuven_residual(increment, element_force, stiffness, breakaway_force,
 
 
 @jit
-def leuven_run(step, step_velocity, sample_velocity, stiffness, breakaway_force, exponent,
+def leuven_run(step, step_velocity, stiffness, breakaway_force, exponent,
                bristle_damping, coulomb_force, static_force, stribeck_velocity,
                stribeck_exponent, shape, element_force, state, out_force):
     """Modified Leuven model (MODELS.md 6) with an implicit (backward Euler) step.

@@ -63,7 +63,7 @@ class Leuven(FrictionModel):
         out = np.empty(path.t.shape[0])
         z_and_rate = np.concatenate([state.variables["deflection"],
                                      state.variables["deflection_rate"]])
-        leuven_run(path.step, path.step_velocity, path.sample_velocity, self._array("stiffness"),
+        leuven_run(path.step, path.step_velocity, self._array("stiffness"),
                    self._array("breakaway_force"), p["exponent"], p["bristle_damping"],
                    p["coulomb_force"], p["static_force"], p["stribeck_velocity"],
                    p["stribeck_exponent"], SHAPE_CODES[p["stribeck_shape"]],
