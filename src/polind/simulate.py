@@ -56,12 +56,12 @@ def as_samples(name, values, length=None, *, positive=False):
                          f"Got {array.shape[0]} instead.")
     bad = np.flatnonzero(~np.isfinite(array))
     if bad.size:
-        raise InputError(f"The '{name}' samples must be finite. Got {array[bad[0]]!r} at index "
+        raise InputError(f"The '{name}' samples must be finite. Got {float(array[bad[0]])!r} at index "
                          f"{bad[0]} instead.")
     if positive:
         bad = np.flatnonzero(array <= 0.0)
         if bad.size:
-            raise InputError(f"The '{name}' samples must be positive. Got {array[bad[0]]!r} at "
+            raise InputError(f"The '{name}' samples must be positive. Got {float(array[bad[0]])!r} at "
                              f"index {bad[0]} instead.")
     return array
 
@@ -75,8 +75,8 @@ def _time(t):
     bad = np.flatnonzero(steps <= 0.0)
     if bad.size:
         k = bad[0] + 1
-        raise InputError(f"The 't' samples must be strictly increasing. Got t[{k}] = {t[k]!r} "
-                         f"after t[{k - 1}] = {t[k - 1]!r}.")
+        raise InputError(f"The 't' samples must be strictly increasing. Got t[{k}] = "
+                         f"{float(t[k])!r} after t[{k - 1}] = {float(t[k - 1])!r}.")
     return t, steps
 
 

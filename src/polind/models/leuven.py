@@ -18,7 +18,11 @@ class Leuven(FrictionModel):
     unconditionally stable, but *approximate*, first order in the step (the
     error is tested against a fine-step reference in the test suite).  In
     presliding (``|Fh| << s(v)``) ``z`` follows ``x`` and ``Fh`` is the
-    Maxwell-slip force of the displacement, exactly.
+    Maxwell-slip force of the displacement, exactly.  The ``sigma1 dz/dt``
+    term of the output is the step's ``dz/dt`` (the increment over ``h``,
+    which the implicit equation makes equal to the state equation at the
+    step's end); at the first sample of a fresh run no step has been taken
+    and it is 0, so ``F[0] = sigma2 v[0]``.
 
     Parameters
     ----------

@@ -1,0 +1,379 @@
+"""Parameter identification (polind.identify; INTERFACE.md ``[fit]``).
+
+Round trips: data simulated from known parameters plus noise are fitted back
+from starting points at least a factor 2 away.  Structure: the NNLS element
+set of a Maxwell-slip model is recovered exactly.  Bad data and bad ``[fit]``
+tables raise one-line InputErrors naming the column or key.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+
+import numpy as np
+import pytest
+
+import polind
+from polind import io
+from polind.errors import InputError
+from polind.identify import (FitResult, identify, identify_gms, identify_maxwell_slip,
+                             identify_stribeck, parse_fit, plot_fit)
+
+
+def model(table: dict):
+    return polind.model_from_dict({"model": copy.deepcopy(table)})
+
+
+def relative_error(got, want):
+    got, want = np.asarray(got, dtype=float), np.asarray(want, dtype=float)
+    return float(np.max(np.abs(got - want) / np.abs(want)))
+
+
+def excitation(n=3001):
+    """A decaying presliding oscillation, then sliding strokes that cross the Stribeck
+    velocity 1e-3 m/s (peak speed about 5e-3 m/s)."""
+    t = np.linspace(0.0, 6.0, n)
+    x = np.where(t < 2.0, 2e-5 * np.sin(2 * np.pi * t) * np.exp(-0.3 * t), 0.0)
+    later = t[t >= 2.0] - 2.0
+    x[t >= 2.0] = 1.5e-3 * np.sin(np.pi * later) * np.minimum(later, 1.0)
+    return t, x
+
+
+def noisy(true, t, x, level, seed=0, **kwargs):
+    force = polind.simulate(true, t, x=x, **kwargs).force
+    return force + level * np.random.default_rng(seed).standard_normal(force.size)
+
+
+LUGRE = {"type": "lugre", "bristle_stiffness": 1e5, "bristle_damping": 316.2,
+         "viscous_coefficient": 0.4, "coulomb_force": 1.0, "static_force": 1.5,
+         "stribeck_velocity": 1e-3}
+GMS = {"type": "gms", "stiffness": [1e5, 2e4], "weight": [0.4, 0.6], "attraction": 50.0,
+       "coulomb_force": 1.0, "static_force": 1.5, "stribeck_velocity": 1e-3,
+       "viscous_coefficient": 0.4}
+
+
+def pol_ind_available() -> bool:
+    """Whether the pol-ind model can be built (it may still be unregistered in the package)."""
+    import importlib
+
+    try:
+        module = importlib.import_module("polind.models.pol_ind")   # registers the type
+        polind.model_from_dict({"model": module.default_table()})
+        return True
+    except (ImportError, AttributeError, InputError):
+        return False
+
+
+# --- round trips -----------------------------------------------------------------------------
+
+def test_stribeck_round_trip_from_a_factor_two_away():
+    v = np.concatenate([np.geomspace(1e-5, 1e-1, 40), -np.geomspace(1e-5, 1e-1, 40)])
+    true = model({"type": "stribeck", "coulomb_force": 1.0, "static_force": 1.5,
+                  "stribeck_velocity": 1e-3, "stribeck_exponent": 2.0,
+                  "viscous_coefficient": 0.4})
+    force = polind.simulate(true, np.arange(v.size), v=v).force
+    force = force + 0.005 * np.random.default_rng(1).standard_normal(v.size)
+    start = true.with_params(coulomb_force=0.5, static_force=3.0, stribeck_velocity=2e-4,
+                             stribeck_exponent=1.0, viscous_coefficient=0.0)
+    free = ["coulomb_force", "static_force", "stribeck_velocity", "stribeck_exponent",
+            "viscous_coefficient"]
+    fit = identify_stribeck(v, force, model=start, free=free)
+    for key in free[:4]:
+        assert relative_error(fit.values[key], true.params[key]) < 0.03, key
+    assert relative_error(fit.values["viscous_coefficient"], 0.4) < 0.15
+    assert fit.rms_error < 0.006
+    # The estimates from the points alone reach the same optimum.
+    guessed = identify_stribeck(v, force, free=free)
+    assert relative_error(guessed.values["static_force"], fit.values["static_force"]) < 1e-4
+
+
+def test_lugre_round_trip_from_a_factor_two_away():
+    t, x = excitation()
+    true = model(LUGRE)
+    data = {"t": t, "x": x, "F": noisy(true, t, x, 0.01)}
+    start = true.with_params(bristle_stiffness=3e4, bristle_damping=100.0, coulomb_force=2.0,
+                             static_force=3.5, stribeck_velocity=3e-3)
+    free = ["bristle_stiffness", "bristle_damping", "coulomb_force", "static_force",
+            "stribeck_velocity"]
+    fit = identify(start, data, free=free)
+    assert isinstance(fit, FitResult) and fit.success
+    for key in free:
+        assert relative_error(fit.values[key], true.params[key]) < 0.03, key
+    assert 0.009 < fit.rms_error < 0.011            # the noise level, not below it
+    assert fit.model.params["viscous_coefficient"] == 0.4  # not free: untouched
+
+
+def test_gms_round_trip_with_element_vectors_free():
+    t, x = excitation()
+    true = model(GMS)
+    data = {"t": t, "x": x, "F": noisy(true, t, x, 0.01)}
+    start = true.with_params(stiffness=[4e5, 5e3], weight=[0.7, 0.3], attraction=200.0,
+                             coulomb_force=2.0, static_force=0.7, stribeck_velocity=3e-3)
+    free = ["stiffness", "weight", "attraction", "coulomb_force", "static_force",
+            "stribeck_velocity"]
+    fit = identify(start, data, free=free)
+    for key in free:
+        assert relative_error(fit.values[key], true.params[key]) < 0.03, key
+    assert math.isclose(sum(fit.model.params["weight"]), 1.0, rel_tol=1e-12)
+    assert len(fit.standard_errors["stiffness"]) == 2
+
+
+@pytest.mark.skipif(not pol_ind_available(), reason="the pol-ind model is not available yet")
+def test_pol_ind_round_trip_with_a_varying_normal_load():
+    from polind.models.pol_ind import default_table
+
+    table = default_table()
+    table["discretisation"]["elements"] = 16
+    true = model(table)
+    t = np.linspace(0.0, 4.0, 2001)
+    x = 3e-6 * np.sin(np.pi * t) * np.minimum(t, 1.0) + 2e-4 * np.maximum(t - 2.0, 0.0) ** 2
+    load = 100.0 + 10.0 * np.sin(3.0 * t)
+    data = {"t": t, "x": x, "normal_load": load,
+            "F": noisy(true, t, x, 0.05, normal_load=load)}
+    start = model({**table, "static_coefficient": 0.3, "kinetic_coefficient": 0.05,
+                   "surface": {**table["surface"], "height_std": 1.5e-6}})
+    document = {"model": start.to_dict()["model"],
+                "fit": {"free": ["static_coefficient", "kinetic_coefficient",
+                                 "surface.height_std"],
+                        "bounds": {"surface": {"height_std": [1e-8, 1e-4]}}}}
+    fit = identify(document, data)
+    assert relative_error(fit.values["static_coefficient"], 0.15) < 0.03
+    assert relative_error(fit.values["kinetic_coefficient"], 0.10) < 0.03
+    assert relative_error(fit.values["surface.height_std"], 0.5e-6) < 0.05
+    assert fit.model.params["surface"]["height_std"] == fit.values["surface.height_std"]
+    assert "surface.height_std" in fit.to_fit_table()
+
+
+# --- structure -------------------------------------------------------------------------------
+
+def nested_presliding_path():
+    """Reversals nested inside the presliding range, from rest."""
+    turns = np.array([0.0, 8e-6, -6e-6, 4e-6, -1e-6, 2e-6, -8e-6, 1.2e-5, 0.0])
+    x = np.concatenate([np.linspace(a, b, 40, endpoint=False) for a, b in
+                        zip(turns[:-1], turns[1:])] + [turns[-1:]])
+    return np.linspace(0.0, 1.0, x.size), x
+
+
+def test_nnls_recovers_a_maxwell_slip_set_on_the_grid_exactly():
+    grid = np.geomspace(2e-7, 2e-5, 12)
+    slip = grid[[1, 4, 7, 10]]
+    breakaway = np.array([0.3, 0.2, 0.4, 0.1])
+    true = model({"type": "maxwell-slip", "stiffness": (breakaway / slip).tolist(),
+                  "breakaway_force": breakaway.tolist()})
+    t, x = nested_presliding_path()
+    data = {"t": t, "x": x, "F": polind.simulate(true, t, x=x).force}
+    fit = identify_maxwell_slip(data, slip_distances=grid)
+    assert fit.type == "maxwell-slip"
+    np.testing.assert_allclose(fit.params["breakaway_force"], breakaway, rtol=1e-9)
+    np.testing.assert_allclose(fit.params["stiffness"], breakaway / slip, rtol=1e-9)
+    np.testing.assert_allclose(polind.simulate(fit, t, x=x).force, data["F"], atol=1e-12)
+
+
+def test_nnls_with_a_viscous_column_and_the_gms_starting_model():
+    true = model({"type": "maxwell-slip", "stiffness": [1e6, 1e5],
+                  "breakaway_force": [1.0, 2.0], "viscous_coefficient": 50.0})
+    t, x = nested_presliding_path()
+    data = {"t": t, "x": x, "F": polind.simulate(true, t, x=x).force}
+    fit = identify_maxwell_slip(data, slip_distances=[1e-6, 3e-6, 2e-5], viscous=True)
+    np.testing.assert_allclose(fit.params["breakaway_force"], [1.0, 2.0], rtol=1e-9)
+    assert math.isclose(fit.params["viscous_coefficient"], 50.0, rel_tol=1e-9)
+
+    data["F"] = polind.simulate(true.with_params(viscous_coefficient=0.0), t, x=x).force
+    gms = identify_gms(data, slip_distances=[1e-6, 3e-6, 2e-5])
+    assert gms.type == "gms"
+    np.testing.assert_allclose(gms.params["weight"], [1 / 3, 2 / 3], rtol=1e-9)
+    assert math.isclose(gms.params["coulomb_force"], 3.0, rel_tol=1e-9)
+    # GMS with Fs = Fc and a large attraction behaves as the Maxwell-slip model.
+    gap = polind.simulate(gms, t, x=x).force - data["F"]
+    assert np.max(np.abs(gap)) < 0.05
+
+
+def test_standard_error_matches_the_closed_form_of_a_mean():
+    # Coulomb at constant speed: Fc_hat is the mean of F sgn(v), SE = s / sqrt(n).
+    t = np.linspace(0.0, 2.0, 401)
+    x = 1e-3 * np.abs(t - 1.0)          # moving at every sample
+    rng = np.random.default_rng(3)
+    start = model({"type": "coulomb", "coulomb_force": 0.5})
+    sign = np.sign(np.concatenate([[-1.0], np.diff(x)]))
+    force = 2.0 * sign + 0.1 * rng.standard_normal(t.size)
+    fit = identify(start, {"t": t, "x": x, "F": force}, free=["coulomb_force"])
+    estimate = np.mean(force * sign)
+    residual = estimate * sign - force
+    expected = math.sqrt(residual @ residual / (t.size - 1) / t.size)
+    assert math.isclose(fit.values["coulomb_force"], estimate, rel_tol=1e-7)
+    assert math.isclose(fit.standard_errors["coulomb_force"], expected, rel_tol=1e-4)
+
+
+def test_an_undetermined_parameter_gets_an_infinite_standard_error():
+    # Without slow motion the Stribeck velocity and the static force leave no trace.
+    t = np.linspace(0.0, 1.0, 201)
+    x = 0.1 * t
+    true = model({"type": "stribeck", "coulomb_force": 1.0, "static_force": 1.5,
+                  "stribeck_velocity": 1e-4})
+    force = noisy(true, t, x, 0.01)
+    fit = identify(true, {"t": t, "x": x, "F": force},
+                   free=["coulomb_force", "static_force", "stribeck_velocity"])
+    assert math.isfinite(fit.standard_errors["coulomb_force"])
+    assert fit.standard_errors["stribeck_velocity"] == math.inf
+
+
+def test_bounds_hold_the_solution():
+    t, x = excitation(1001)
+    true = model(LUGRE)
+    data = {"t": t, "x": x, "F": noisy(true, t, x, 0.01)}
+    fit = identify(true.with_params(coulomb_force=0.6), data, free=["coulomb_force"],
+                   bounds={"coulomb_force": [0.5, 0.8]})
+    assert 0.5 <= fit.values["coulomb_force"] <= 0.8
+    assert math.isclose(fit.values["coulomb_force"], 0.8, rel_tol=1e-6)
+
+
+def test_document_in_document_out(tmp_path):
+    t, x = excitation(1001)
+    true = model(LUGRE)
+    data = {"t": t, "x": x, "F": noisy(true, t, x, 0.01)}
+    start = true.with_params(coulomb_force=2.0, static_force=3.0)
+    document = {"model": start.to_dict()["model"],
+                "fit": {"free": ["coulomb_force", "static_force"],
+                        "bounds": {"static_force": [0.1, 10.0]}}}
+    calls = []
+    fit = identify(document, data, callback=lambda n, rms: calls.append((n, rms)))
+    assert fit.free == ("coulomb_force", "static_force")
+    assert calls and calls[-1][0] == fit.evaluations
+    table = fit.to_fit_table()
+    assert set(table) == {"rms_error", "iterations", "coulomb_force", "static_force"}
+    assert table["rms_error"] == fit.rms_error and table["iterations"] == fit.iterations > 0
+    assert set(table["coulomb_force"]) == {"value", "standard_error"}
+    assert 0.0 < table["coulomb_force"]["standard_error"] < 0.01
+
+    path = tmp_path / "fitted.toml"
+    io.write_model_file(path, fit.to_document())
+    again = io.read_model_file(path)
+    assert again["fit"]["bounds"] == {"static_force": [0.1, 10.0]}
+    assert again["fit"]["result"]["coulomb_force"]["value"] == fit.values["coulomb_force"]
+    assert polind.load_model(path) == fit.model
+    # A fitted file is a valid starting point: refitting stays put.
+    refit = identify(again, data)
+    assert relative_error(refit.values["coulomb_force"], fit.values["coulomb_force"]) < 1e-4
+
+
+def test_leuven_breakaway_forces_keep_summing_to_the_static_force():
+    leuven = model({"type": "leuven", "stiffness": [1e5, 2e4], "breakaway_force": [0.6, 0.9],
+                    "exponent": 2.0, "bristle_damping": 100.0, "coulomb_force": 1.0,
+                    "static_force": 1.5, "stribeck_velocity": 1e-3})
+    t, x = excitation(601)
+    data = {"t": t, "x": x, "F": noisy(leuven, t, x, 0.01)}
+    fit = identify(leuven, data, free=["static_force"], max_evaluations=5)
+    params = fit.model.params
+    assert math.isclose(sum(params["breakaway_force"]), params["static_force"], rel_tol=1e-9)
+
+
+def test_plot_fit_writes_a_png(tmp_path):
+    t, x = excitation(601)
+    true = model(LUGRE)
+    data = {"t": t, "x": x, "F": noisy(true, t, x, 0.01)}
+    fit = identify(true.with_params(coulomb_force=1.3), data, free=["coulomb_force"])
+    path = tmp_path / "fit.png"
+    plot_fit(data, {"LuGre": fit, "start": true}, path)
+    content = path.read_bytes()
+    assert content.startswith(b"\x89PNG\r\n\x1a\n") and len(content) > 20_000
+
+
+# --- bad input ---------------------------------------------------------------------------------
+
+def good_data():
+    t = np.linspace(0.0, 1.0, 50)
+    return {"t": t, "x": 1e-4 * np.sin(2 * np.pi * t), "F": np.cos(2 * np.pi * t)}
+
+
+def with_nan(data, key):
+    data[key] = np.array(data[key], dtype=float)
+    data[key][7] = np.nan
+    return data
+
+
+BAD_DATA = {
+    "too few samples": (lambda d: {k: v[:2] for k, v in d.items()}, "'t'"),
+    "fewer samples than free values": (lambda d: {k: v[:3] for k, v in d.items()}, "'t'"),
+    "no motion": (lambda d: {**d, "x": np.full(50, 3e-3)}, "'x'"),
+    "no velocity": (lambda d: {"t": d["t"], "v": np.zeros(50), "F": d["F"]}, "'v'"),
+    "constant force": (lambda d: {**d, "F": np.full(50, 0.7)}, "'F'"),
+    "NaN force": (lambda d: with_nan(d, "F"), "'F'"),
+    "NaN position": (lambda d: with_nan(d, "x"), "'x'"),
+    "missing force": (lambda d: {"t": d["t"], "x": d["x"]}, "'F'"),
+    "both x and v": (lambda d: {**d, "v": d["x"]}, "'x'"),
+    "unknown column": (lambda d: {**d, "Fn": d["F"]}, "'Fn'"),
+    "shorter column": (lambda d: {**d, "F": d["F"][:-1]}, "'F'"),
+    "time not increasing": (lambda d: {**d, "t": d["t"][::-1].copy()}, "'t'"),
+    "normal load on lugre": (lambda d: {**d, "normal_load": np.ones(50)}, "normal_load"),
+}
+
+
+@pytest.mark.parametrize("case", list(BAD_DATA))
+def test_bad_data_raise_one_line_errors_naming_the_column(case):
+    change, named = BAD_DATA[case]
+    start = model(LUGRE)
+    with pytest.raises(InputError) as error:
+        identify(start, change(good_data()), free=["coulomb_force", "static_force",
+                                                   "stribeck_velocity"])
+    message = str(error.value)
+    assert "\n" not in message and named in message, message
+
+
+BAD_FIT = {
+    "unknown free key": ({"free": ["coulomb"]}, "'coulomb'"),
+    "non-numeric free key": ({"free": ["stribeck_shape"]}, "'stribeck_shape'"),
+    "free key twice": ({"free": ["coulomb_force", "coulomb_force"]}, "'coulomb_force'"),
+    "free not a list": ({"free": 3}, "'free'"),
+    "empty free": ({"free": []}, "'free'"),
+    "bounds exclude the start": ({"free": ["coulomb_force"],
+                                  "bounds": {"coulomb_force": [2.0, 3.0]}}, "'coulomb_force'"),
+    "low equals high": ({"free": ["coulomb_force"],
+                         "bounds": {"coulomb_force": [1.0, 1.0]}}, "'coulomb_force'"),
+    "low above high": ({"free": ["static_force"],
+                        "bounds": {"static_force": [5.0, 0.1]}}, "'static_force'"),
+    "bounds not a pair": ({"free": ["static_force"],
+                           "bounds": {"static_force": [0.1]}}, "'static_force'"),
+    "bounds not numbers": ({"free": ["static_force"],
+                            "bounds": {"static_force": ["a", 2.0]}}, "'static_force'"),
+    "bounds of a fixed key": ({"free": ["coulomb_force"],
+                               "bounds": {"static_force": [0.1, 9.0]}}, "'static_force'"),
+    "unknown fit key": ({"free": ["coulomb_force"], "bound": {}}, "'fit.bound'"),
+}
+
+
+@pytest.mark.parametrize("case", list(BAD_FIT))
+def test_bad_fit_tables_raise_one_line_errors_naming_the_key(case):
+    fit, named = BAD_FIT[case]
+    document = {"model": copy.deepcopy(LUGRE), "fit": fit}
+    with pytest.raises(InputError) as error:
+        identify(document, good_data())
+    message = str(error.value)
+    assert "\n" not in message and named in message, message
+    # The model side alone (what `polind fit` blames on the model file) fails the same way.
+    with pytest.raises(InputError) as alone:
+        parse_fit(document)
+    assert str(alone.value) == message
+
+
+def test_bad_free_keys_of_element_models():
+    gms = model(GMS)
+    with pytest.raises(InputError, match="'weight'"):
+        identify(gms, good_data(), free=["weight"], bounds={"weight": [0.1, 0.9]})
+    with pytest.raises(InputError, match="'stiffness'.*exclude"):
+        identify(gms, good_data(), free=["stiffness"], bounds={"stiffness": [5e4, 1e6]})
+    leuven = model({"type": "leuven", "stiffness": [1e5], "breakaway_force": [1.5],
+                    "exponent": 2.0, "bristle_damping": 100.0, "coulomb_force": 1.0,
+                    "static_force": 1.5, "stribeck_velocity": 1e-3})
+    with pytest.raises(InputError, match="'breakaway_force' and 'static_force'"):
+        identify(leuven, good_data(), free=["breakaway_force", "static_force"])
+
+
+def test_a_bare_model_without_a_free_list_uses_the_defaults_and_nnls_checks_its_input():
+    data = good_data()
+    fit = identify(model({"type": "coulomb", "coulomb_force": 0.3}), data)
+    assert fit.free == ("coulomb_force",)
+    with pytest.raises(InputError, match="'slip_distances'"):
+        identify_maxwell_slip(data, slip_distances=[1e-6, -1e-6])
+    with pytest.raises(InputError, match="'x'"):
+        identify_maxwell_slip({**data, "x": np.zeros(50)})
