@@ -178,3 +178,22 @@ def test_velocity_driven_matches_oracle():
     ref = oracles.simulate(model, t, v=v)
     np.testing.assert_allclose(res.x, ref.x, rtol=1e-12, atol=1e-18)
     assert_close(res.force, ref.force, REL, SUM_W, "v-driven vs oracle")
+
+
+def test_masing_formula_of_models_md_4_holds_only_down_to_minus_x_r():
+    """MODELS.md 4 states ``F = F_r - 2 phi((x_r - x)/2)`` "until the next
+    reversal".  Taken literally after a reversal at ``x_r < max D`` it fails
+    beyond ``-x_r``: it falls below ``-sum W``, which no Maxwell-slip model
+    can reach.  The model (and the tests above) follow Masing's second rule:
+    the branch joins the virgin curve at ``-x_r``.  This test records the
+    disagreement with the spec's wording."""
+    x_r = 1.0e-6                          # below every slip distance
+    t, x = polyline([0.0, x_r, -6e-5], samples_per_leg=[100, 700])
+    res = run(ms(), t, x=x)
+    f_r = oracles.virgin_curve(x_r, K, W)
+    literal = oracles.masing_branch(x[100:], x_r, f_r, K, W)
+    assert literal.min() < -SUM_W * 1.1            # the literal formula breaks the bound
+    assert res.force.min() >= -SUM_W * (1 + 1e-12)  # the model does not
+    beyond = x[100:] < -x_r
+    np.testing.assert_allclose(res.force[100:][beyond],
+                               oracles.virgin_curve(x[100:][beyond], K, W), rtol=1e-9)
