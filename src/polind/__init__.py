@@ -14,12 +14,14 @@ from polind.simulate import SimulationResult, simulate
 
 __all__ = ["InputError", "MODEL_TYPES", "FrictionModel", "State", "SimulationResult",
            "load_model", "model_from_dict", "simulate", "System", "SystemResult",
-           "load_system", "simulate_system"]
+           "load_system", "simulate_system", "identify", "FitResult"]
 __version__ = "0.1.0"
 
-# The one-degree-of-freedom API loads numba kernels: import it on first use
+# The one-degree-of-freedom and identification APIs load numba kernels and
+# SciPy: import them on first use
 # (PEP 562) so `import polind` stays fast.
-_LAZY = {"System": "polind.dynamics", "SystemResult": "polind.dynamics",
+_LAZY = {"identify": "polind.identify", "FitResult": "polind.identify",
+         "System": "polind.dynamics", "SystemResult": "polind.dynamics",
          "load_system": "polind.dynamics", "simulate_system": "polind.dynamics"}
 
 

@@ -225,6 +225,13 @@ def bench(models):
             bar.clear()
             click.echo(benchmark.format_table(rows[-1:]).splitlines()[-1])
             bar.update()
+    if not models or "pol-ind" in models:
+        separation = benchmark.run_separation()
+        click.echo(f"\npol-ind separation solve, {separation.asperities:,} sampled asperities "
+                   f"(direct summation): {separation.solve_seconds * 1e3:.2f} ms, "
+                   f"{separation.evaluations} load evaluations, |N(d) - N|/N = "
+                   f"{separation.relative_residual:.1e} (building the sorted surface: "
+                   f"{separation.build_seconds * 1e3:.0f} ms, once per surface)")
 
 
 @cli.command()
@@ -256,7 +263,80 @@ def dynamics(model_path, system_path, output_path):
     click.echo(f"wrote {output_path}: {len(result.t)} samples")
 
 
-# demo and fit (INTERFACE.md) join here, one function each.
+@cli.command()
+@click.option("--out", "out_dir", default="polind-report", show_default=True,
+              type=click.Path(file_okay=False, path_type=Path),
+              help="Directory for report.html, metrics.json and the PNGs.")
+@click.option("--model", "model_path", default=None, type=_file_path(), metavar="MODEL",
+              help="A pol-ind model file to use instead of the default parameters.")
+def demo(out_dir, model_path):
+    """The friction phenomena on the default Pol-Ind model beside LuGre, GMS and Maxwell-slip.
+
+    Runs the six experiments of MODELS.md 7.7 (Stribeck effect, presliding
+    memory, frictional lag, non-drifting, stick-slip, break-away) and writes
+    DIR/report.html (self-contained), one PNG per figure and DIR/metrics.json.
+    """
+    import time
+
+    from polind.demo import run_demo
+
+    model = None
+    if model_path is not None:
+        model = load_model(model_path)
+        if model.type != "pol-ind":
+            raise InputError(f"{model_path}: 'polind demo --model' needs a model of type "
+                             f"'pol-ind'. Got '{model.type}' instead.")
+    started = time.perf_counter()
+    with progress(description="demo", unit="experiment") as bar:
+        summary = run_demo(out_dir, progress=bar, model=model)
+    click.echo(summary["table"])
+    click.echo(f"\nwrote {Path(out_dir) / 'report.html'}, metrics.json and "
+               f"{sum(1 for f in summary['files'] if str(f).endswith('.png'))} figures "
+               f"in {time.perf_counter() - started:.1f} s")
+
+
+@cli.command()
+@model_argument
+@click.option("--data", "-d", "data_path", required=True, type=_file_path(), metavar="DATA.csv",
+              help="Measured t, one of x [m] / v [m/s], F [N], optionally normal_load [N].")
+@output_option
+@click.option("--plot", "plot_path", default=None, type=_file_path(), metavar="FILE",
+              help="Also write a PNG of measured against fitted force.")
+def fit(model_path, data_path, output_path, plot_path):
+    """Identify the [fit] free parameters of MODEL from measured data.
+
+    The model's values are the starting point; [fit] free names the keys to
+    identify and [fit.bounds] bounds them.  Writes FITTED.toml: [model] with
+    the identified values and [fit.result] (rms_error, iterations, value and
+    standard error of every free key).
+    """
+    import importlib
+
+    from polind import io
+
+    # polind.identify is also the name of the function the package exports.
+    identification = importlib.import_module("polind.identify")
+
+    check_output_path(output_path)
+    if plot_path is not None:
+        check_output_path(plot_path)
+    with blame(model_path):
+        document = io.read_model_file(model_path)
+        model, free, bounds = identification.parse_fit(document)
+    data = io.read_motion_csv(data_path, **io.MEASUREMENT_COLUMNS)
+    with progress(description="fit", unit="simulation") as bar:
+        def advance(evaluations, rms):
+            bar.set_postfix_str(f"rms {rms:.4g} N", refresh=False)
+            bar.update()
+
+        with blame(data_path):
+            result = identification.identify(model, data, free=free, bounds=bounds,
+                                             callback=advance)
+    if plot_path is not None:
+        identification.plot_fit(data, result, plot_path)
+    io.write_model_file(output_path, result.to_document())
+    click.echo(result.summary())
+    click.echo(f"wrote {output_path}" + (f" and {plot_path}" if plot_path else ""))
 
 
 # --- the entry point ------------------------------------------------------------------------

@@ -1,0 +1,192 @@
+"""``polind demo``: the six phenomena on the default Pol-Ind model and its classical peers.
+
+:func:`run_demo` runs every experiment of :mod:`polind.phenomena` on four
+models and writes the report of :mod:`polind.report`:
+
+* **Pol-Ind**: the default parameter set of INTERFACE.md (a steel pair under
+  100 N: ``mu_s N = 15 N``, ``mu_k N = 10 N``, vs = 1 mm/s, C = 1e4 N/s,
+  64 statistical elements), or a model given by the caller.
+* **LuGre** with the parameters of Canudas de Wit et al. (1995):
+  sigma0 = 1e5 N/m, sigma1 = sqrt(1e5) N s/m, sigma2 = 0.4 N s/m, Fc = 1 N,
+  Fs = 1.5 N, vs = 1 mm/s.  Its forces are fifteen times smaller than
+  Pol-Ind's; every experiment scales with the model's own levels.
+* **GMS** built from the Pol-Ind contact: the element stiffnesses ``k_j``
+  and weights ``alpha_j = W_j / sum W`` of the Pol-Ind element table, and
+  the same Stribeck curve and attraction (Fs = mu_s N, Fc = mu_k N, vs, C,
+  sigma2).  At a constant normal load this *is* the Pol-Ind model
+  (MODELS.md 7.6: each element obeys the GMS law), so its rows repeat
+  Pol-Ind's: what Pol-Ind adds is where the elements come from (the asperity
+  mechanics) and how they follow a varying normal load.
+* **Maxwell-slip** with the same elements: ``k_j`` from the table and
+  ``W_j = mu_s N alpha_j`` (the table's break-away forces, summing to
+  ``mu_s N``), no viscous term: the rate-independent limit (C -> inf,
+  Fs = Fc) of the same contact.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+from polind import phenomena
+from polind.phenomena import PHENOMENA
+
+__all__ = ["LUGRE_1995", "EXPERIMENTS", "demo_models", "run_demo", "DemoSummary"]
+
+#: The LuGre parameters of Canudas de Wit, Olsson, Astrom and Lischinsky (1995), MODELS.md 3.
+LUGRE_1995 = {
+    "type": "lugre",
+    "bristle_stiffness": 1e5,
+    "bristle_damping": math.sqrt(1e5),
+    "viscous_coefficient": 0.4,
+    "coulomb_force": 1.0,
+    "static_force": 1.5,
+    "stribeck_velocity": 1e-3,
+    "stribeck_exponent": 2.0,
+}
+
+#: The experiment of each phenomenon (the keys of metrics.json).
+EXPERIMENTS = {
+    "stribeck": phenomena.stribeck_effect,
+    "presliding_memory": phenomena.presliding_memory,
+    "frictional_lag": phenomena.frictional_lag,
+    "non_drifting": phenomena.non_drifting,
+    "stick_slip": phenomena.stick_slip,
+    "breakaway": phenomena.breakaway,
+}
+
+_DESCRIPTIONS = {
+    "Pol-Ind": "The default Pol-Ind parameter set of INTERFACE.md: GMS elements built from "
+               "Greenwood-Williamson asperity statistics and Hertz/elastic-slip asperity "
+               "mechanics (MODELS.md 7).",
+    "LuGre": "The LuGre model with the parameters of Canudas de Wit et al. (1995), MODELS.md 3.",
+    "GMS": "GMS (MODELS.md 5) with Pol-Ind's element stiffnesses and weights "
+           "(alpha_j = W_j / sum W) and its Stribeck curve and attraction: identical to "
+           "Pol-Ind at a constant normal load, so its results repeat Pol-Ind's.",
+    "Maxwell-slip": "Maxwell-slip (MODELS.md 4) with Pol-Ind's element stiffnesses and "
+                    "W_j = mu_s N alpha_j (summing to mu_s N): the rate-independent limit of "
+                    "the same contact.",
+}
+
+
+def demo_models(pol_ind=None) -> dict:
+    """The four models of the demo, ``{label: model}``, Pol-Ind first.
+
+    Parameters
+    ----------
+    pol_ind : polind.FrictionModel, optional
+        A Pol-Ind model; default the INTERFACE.md default parameter set.
+        GMS and Maxwell-slip are built from its element table and levels.
+    """
+    import polind
+    from polind.models.pol_ind import default_table
+
+    if pol_ind is None:
+        pol_ind = polind.model_from_dict({"model": default_table()})
+    p = pol_ind.params
+    table = pol_ind.element_table()
+    stiffness = [float(k) for k in table.stiffness]
+    capacity = [float(w) for w in table.breakaway_force]
+    total = math.fsum(capacity)
+    weight = [w / total for w in capacity]
+    load = p["normal_load"]
+    gms = {
+        "type": "gms", "stiffness": stiffness, "weight": weight, "attraction": p["attraction"],
+        "coulomb_force": p["kinetic_coefficient"] * load,
+        "static_force": p["static_coefficient"] * load,
+        "stribeck_velocity": p["stribeck_velocity"], "stribeck_exponent": p["stribeck_exponent"],
+        "stribeck_shape": p["stribeck_shape"], "viscous_coefficient": p["viscous_coefficient"],
+    }
+    maxwell_slip = {"type": "maxwell-slip", "stiffness": stiffness,
+                    "breakaway_force": [p["static_coefficient"] * load * a for a in weight]}
+    return {
+        "Pol-Ind": pol_ind,
+        "LuGre": polind.model_from_dict({"model": dict(LUGRE_1995)}),
+        "GMS": polind.model_from_dict({"model": gms}),
+        "Maxwell-slip": polind.model_from_dict({"model": maxwell_slip}),
+    }
+
+
+class DemoSummary(dict):
+    """What :func:`run_demo` returns: a dict with ``out_dir``, ``files``, ``metrics``,
+    ``results``, ``table`` (the summary as text), ``passed`` (phenomenon -> bool, in
+    Pol-Ind) and ``seconds``; ``str()`` of it is the table."""
+
+    def __str__(self):
+        return self["table"]
+
+
+def _progress_hooks(progress, total):
+    """``(advance(description), close())`` for a tqdm-like bar or a callable.
+
+    A bar (anything with ``update``) gets ``total`` if it has none and one
+    ``update()`` per experiment; a callable is called as
+    ``progress(done, total, description)``.
+    """
+    if progress is None:
+        return lambda description: None
+    if hasattr(progress, "update"):
+        if getattr(progress, "total", None) in (None, 0):
+            progress.total = total
+            if hasattr(progress, "refresh"):
+                progress.refresh()
+        done = [0]
+
+        def advance(description):
+            done[0] += 1
+            if hasattr(progress, "set_description_str"):
+                progress.set_description_str(description)
+            progress.update(1)
+        return advance
+    done = [0]
+
+    def call(description):
+        done[0] += 1
+        progress(done[0], total, description)
+    return call
+
+
+def run_demo(out_dir="polind-report", progress=None, *, model=None) -> DemoSummary:
+    """Run the six phenomena on Pol-Ind, LuGre, GMS and Maxwell-slip; write the report.
+
+    Parameters
+    ----------
+    out_dir : str or os.PathLike
+        Directory for ``report.html``, ``metrics.json`` and the PNGs
+        (created if needed; files in it are replaced atomically).
+    progress : tqdm-like or callable, optional
+        A progress bar (``update(1)`` per experiment, its ``total`` set if
+        missing) or a function ``progress(done, total, description)``.
+    model : polind.FrictionModel, optional
+        The Pol-Ind model to run (default: the INTERFACE.md defaults).
+
+    Returns
+    -------
+    DemoSummary
+        ``table`` is the model x phenomenon summary as text (``print`` it).
+
+    Examples
+    --------
+    >>> summary = run_demo("polind-report")            # doctest: +SKIP
+    >>> print(summary["table"])                        # doctest: +SKIP
+    """
+    from polind import report
+
+    started = time.perf_counter()
+    models = demo_models(model)
+    total = len(models) * len(PHENOMENA) + 1
+    advance = _progress_hooks(progress, total)
+    results = {phenomenon: {} for phenomenon in PHENOMENA}
+    for phenomenon in PHENOMENA:
+        for label, friction_model in models.items():
+            results[phenomenon][label] = EXPERIMENTS[phenomenon](friction_model)
+            advance(f"{phenomenon}: {label}")
+    info = {label: {"description": _DESCRIPTIONS[label], "parameters": m.to_dict()["model"]}
+            for label, m in models.items()}
+    written = report.write_report(results, out_dir, models=info, subject="Pol-Ind")
+    advance("report")
+    table = report.summary_table(results)
+    return DemoSummary(out_dir=written["out_dir"], files=written["files"],
+                       metrics=written["metrics"], results=results, table=table,
+                       passed={p: written["metrics"][p]["passed"] for p in PHENOMENA},
+                       seconds=time.perf_counter() - started)
