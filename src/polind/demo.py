@@ -10,13 +10,14 @@ models and writes the report of :mod:`polind.report`:
   sigma0 = 1e5 N/m, sigma1 = sqrt(1e5) N s/m, sigma2 = 0.4 N s/m, Fc = 1 N,
   Fs = 1.5 N, vs = 1 mm/s.  Its forces are fifteen times smaller than
   Pol-Ind's; every experiment scales with the model's own levels.
-* **GMS** built from the Pol-Ind contact: the element stiffnesses ``k_j``
-  and weights ``alpha_j = W_j / sum W`` of the Pol-Ind element table, and
-  the same Stribeck curve and attraction (Fs = mu_s N, Fc = mu_k N, vs, C,
-  sigma2).  At a constant normal load this *is* the Pol-Ind model
-  (MODELS.md 7.6: each element obeys the GMS law), so its rows repeat
-  Pol-Ind's: what Pol-Ind adds is where the elements come from (the asperity
-  mechanics) and how they follow a varying normal load.
+* **GMS** as an engineer would set it up without the asperity mechanics:
+  eight elements of equal weight whose slip distances are log-spaced over
+  Pol-Ind's presliding range (from 1/30 of its largest element slip
+  distance to that distance, ``k_i = alpha_i Fs / D_i``), with Pol-Ind's Stribeck curve and
+  attraction (Fs = mu_s N, Fc = mu_k N, vs, C, sigma2).  Same levels, a
+  different (phenomenological) element set: the comparison shows what the
+  surface-derived table changes.  (A GMS with Pol-Ind's own table *is*
+  Pol-Ind at a constant load, MODELS.md 7.6.)
 * **Maxwell-slip** with the same elements: ``k_j`` from the table and
   ``W_j = mu_s N alpha_j`` (the table's break-away forces, summing to
   ``mu_s N``), no viscous term: the rate-independent limit (C -> inf,
@@ -60,9 +61,9 @@ _DESCRIPTIONS = {
                "Greenwood-Williamson asperity statistics and Hertz/elastic-slip asperity "
                "mechanics (MODELS.md 7).",
     "LuGre": "The LuGre model with the parameters of Canudas de Wit et al. (1995), MODELS.md 3.",
-    "GMS": "GMS (MODELS.md 5) with Pol-Ind's element stiffnesses and weights "
-           "(alpha_j = W_j / sum W) and its Stribeck curve and attraction: identical to "
-           "Pol-Ind at a constant normal load, so its results repeat Pol-Ind's.",
+    "GMS": "GMS (MODELS.md 5) with eight equal-weight elements whose slip distances are "
+           "log-spaced from 1/30 of Pol-Ind's largest slip distance to it, and Pol-Ind's Stribeck curve and "
+           "attraction: the same levels with a phenomenological element set.",
     "Maxwell-slip": "Maxwell-slip (MODELS.md 4) with Pol-Ind's element stiffnesses and "
                     "W_j = mu_s N alpha_j (summing to mu_s N): the rate-independent limit of "
                     "the same contact.",
@@ -90,10 +91,17 @@ def demo_models(pol_ind=None) -> dict:
     total = math.fsum(capacity)
     weight = [w / total for w in capacity]
     load = p["normal_load"]
+    slips = [w / k for w, k in zip(capacity, stiffness) if k > 0.0]
+    count = 8
+    shortest = max(slips) / 30.0
+    ratio = (max(slips) / shortest) ** (1.0 / (count - 1))
+    gms_slip = [shortest * ratio ** i for i in range(count)]
+    static = p["static_coefficient"] * load
     gms = {
-        "type": "gms", "stiffness": stiffness, "weight": weight, "attraction": p["attraction"],
+        "type": "gms", "stiffness": [static / count / d for d in gms_slip],
+        "weight": [1.0 / count] * count, "attraction": p["attraction"],
         "coulomb_force": p["kinetic_coefficient"] * load,
-        "static_force": p["static_coefficient"] * load,
+        "static_force": static,
         "stribeck_velocity": p["stribeck_velocity"], "stribeck_exponent": p["stribeck_exponent"],
         "stribeck_shape": p["stribeck_shape"], "viscous_coefficient": p["viscous_coefficient"],
     }

@@ -842,11 +842,11 @@ def breakaway(model, *, ramp_times=None, threshold_velocity=None, steps=15000) -
     ----------
     model : polind.FrictionModel
     ramp_times : sequence of float, optional
-        [s] to reach Fs; default ``1e4, 1e3, 1e2, 10`` times the body's
-        presliding period ``2 pi sqrt(m / K)`` (K the presliding stiffness):
-        from quasi-static to where inertia shows, while the presliding
-        velocity ``rate / K`` stays far below vs.  Ten seconds to 10 ms for a
-        model without presliding.
+        [s] to reach Fs; default: the slowest is quasi-static (at least 1e4
+        presliding periods ``2 pi sqrt(m / K)``, K the presliding stiffness,
+        and slow enough that the body's own acceleration to the threshold
+        velocity adds less than 0.2 % of Fs), then 10, 100 and 1000 times
+        faster, to where inertia shows.
     threshold_velocity : float, optional
         [m/s].
     steps : int
@@ -864,11 +864,16 @@ def breakaway(model, *, ramp_times=None, threshold_velocity=None, steps=15000) -
     fs = levels.static_force
     mass = _body_mass(levels)
     period = _presliding_period(levels, mass)
-    if ramp_times is None:
-        base = [1e4, 1e3, 1e2, 1e1]
-        ramp_times = [period * k for k in base] if period else [10.0, 1.0, 0.1, 0.01]
-    ramp_times = sorted((float(r) for r in ramp_times), reverse=True)
     threshold = _velocity_scale(levels) if threshold_velocity is None else float(threshold_velocity)
+    if ramp_times is None:
+        # The slowest ramp must be quasi-static for the body too: after break-away
+        # it needs about sqrt(2 m v_threshold / rate) to reach the threshold, while
+        # the ramp adds sqrt(2 m v_threshold rate) to the applied force; keep that
+        # below 0.2 % of Fs.  And at least 1e4 presliding periods.
+        quasi_static = fs / ((0.002 * fs) ** 2 / (2.0 * mass * threshold))
+        slowest = max(1e4 * period if period else 10.0, quasi_static)
+        ramp_times = [slowest, slowest / 10.0, slowest / 100.0, slowest / 1000.0]
+    ramp_times = sorted((float(r) for r in ramp_times), reverse=True)
     rates, forces, displacements, runs = [], [], [], []
     for ramp in ramp_times:
         rate = fs / ramp
