@@ -1,0 +1,216 @@
+"""The commands wired onto the library: surface, dynamics, fit, demo, bench (INTERFACE.md)."""
+
+from __future__ import annotations
+
+import json
+import os
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+import tomli_w
+
+import polind
+from polind import bench, cli
+from polind.models.pol_ind import default_table
+
+LUGRE_1995 = {"type": "lugre", "bristle_stiffness": 1e5, "bristle_damping": 1e5 ** 0.5,
+              "viscous_coefficient": 0.4, "coulomb_force": 1.0, "static_force": 1.5,
+              "stribeck_velocity": 1e-3}
+
+
+@pytest.fixture(autouse=True)
+def no_debug(monkeypatch):
+    monkeypatch.delenv("POLIND_DEBUG", raising=False)
+
+
+def run(capsys, *args):
+    with pytest.raises(SystemExit) as exit_info:
+        cli.main([os.fspath(arg) for arg in args])
+    captured = capsys.readouterr()
+    return exit_info.value.code, captured.out, captured.err
+
+
+def one_error_line(err, *fragments):
+    assert err.count("\n") == 1 and err.startswith("polind: error: "), repr(err)
+    for fragment in fragments:
+        assert fragment in err, (fragment, err)
+
+
+def write_toml(path, document):
+    path.write_text(tomli_w.dumps(document))
+    return path
+
+
+# --- surface ------------------------------------------------------------------------------
+
+def test_surface_json_is_the_contact_of_the_model(tmp_path, capsys):
+    model_path = write_toml(tmp_path / "pol.toml", {"model": default_table()})
+    status, out, err = run(capsys, "surface", model_path, "--json")
+    assert status == 0 and err == ""
+    summary = json.loads(out)
+    assert set(summary) == {"separation", "contacts", "real_area", "normal_load", "elements"}
+    assert set(summary["elements"][0]) == {"stiffness", "breakaway_force", "asperities",
+                                           "interference"}
+    assert len(summary["elements"]) == 64
+    total = sum(e["breakaway_force"] for e in summary["elements"])
+    assert total == pytest.approx(0.15 * 100.0, rel=1e-9)          # Amontons
+    model = polind.load_model(model_path)
+    assert summary["separation"] == model.contact().separation
+
+
+def test_surface_table_on_a_terminal_and_error_for_other_models(tmp_path, capsys):
+    model_path = write_toml(tmp_path / "pol.toml", {"model": default_table()})
+    status, out, _ = run(capsys, "surface", model_path)
+    assert status == 0 and "separation" in out and "interference [m]" in out
+    other = write_toml(tmp_path / "lugre.toml", {"model": LUGRE_1995})
+    status, out, err = run(capsys, "surface", other)
+    assert status == 2 and out == ""
+    one_error_line(err, "lugre.toml", "pol-ind")
+
+
+# --- dynamics -----------------------------------------------------------------------------
+
+def test_dynamics_writes_the_library_result(tmp_path, capsys):
+    model_path = write_toml(tmp_path / "lugre.toml", {"model": LUGRE_1995})
+    system_path = write_toml(tmp_path / "system.toml", {"system": {
+        "mass": 1.0, "duration": 2.0, "time_step": 1e-3,
+        "spring_drive": {"stiffness": 2.0, "velocity": 0.1}}})
+    out = tmp_path / "out.csv"
+    status, _, err = run(capsys, "dynamics", model_path, "--system", system_path,
+                         "--output", out)
+    assert status == 0, err
+    lines = out.read_text().splitlines()
+    assert lines[0] == "t,x,v,F,F_applied"
+    table = np.array([[float(v) for v in line.split(",")] for line in lines[1:]])
+    want = polind.simulate_system(polind.load_model(model_path),
+                                  polind.load_system(system_path))
+    for column, values in zip(table.T, (want.t, want.x, want.v, want.force, want.applied)):
+        np.testing.assert_array_equal(column, values)
+
+
+@pytest.mark.parametrize("system, fragment", [
+    ({"system": {"mass": -1.0, "duration": 1.0, "time_step": 1e-3,
+                 "force": {"offset": 1.0}}}, "mass"),
+    ({"system": {"mass": 1.0, "duration": 1.0, "time_step": 1e-3, "colour": 1,
+                 "force": {"offset": 1.0}}}, "colour"),
+])
+def test_dynamics_bad_system_exits_2_and_writes_nothing(tmp_path, capsys, system, fragment):
+    model_path = write_toml(tmp_path / "lugre.toml", {"model": LUGRE_1995})
+    system_path = write_toml(tmp_path / "system.toml", system)
+    out = tmp_path / "out.csv"
+    status, _, err = run(capsys, "dynamics", model_path, "--system", system_path,
+                         "--output", out)
+    assert status == 2
+    one_error_line(err, "system.toml", fragment)
+    assert not out.exists()
+
+
+# --- fit ----------------------------------------------------------------------------------
+
+def stribeck_data(tmp_path):
+    truth = polind.model_from_dict({"model": {"type": "stribeck", "coulomb_force": 1.0,
+                                              "static_force": 1.5,
+                                              "stribeck_velocity": 1e-3}})
+    t = np.linspace(0.0, 2.0, 801)
+    v = 0.01 * np.sin(2 * np.pi * t)
+    force = polind.simulate(truth, t, v=v).force
+    force += 0.005 * np.random.default_rng(3).standard_normal(t.size)
+    data = tmp_path / "data.csv"
+    np.savetxt(data, np.c_[t, v, force], delimiter=",", header="t,v,F", comments="",
+               fmt="%.17g")
+    return data
+
+
+def test_fit_recovers_parameters_and_writes_fit_result(tmp_path, capsys):
+    data = stribeck_data(tmp_path)
+    model_path = write_toml(tmp_path / "start.toml", {
+        "model": {"type": "stribeck", "coulomb_force": 2.0, "static_force": 3.0,
+                  "stribeck_velocity": 3e-3},
+        "fit": {"free": ["coulomb_force", "static_force", "stribeck_velocity"],
+                "bounds": {"stribeck_velocity": [1e-5, 1e-1]}}})
+    out, plot = tmp_path / "fitted.toml", tmp_path / "fit.png"
+    status, stdout, err = run(capsys, "fit", model_path, "--data", data, "--output", out,
+                              "--plot", plot)
+    assert status == 0, err
+    document = tomllib.loads(out.read_text())
+    assert document["model"]["coulomb_force"] == pytest.approx(1.0, rel=0.02)
+    assert document["model"]["static_force"] == pytest.approx(1.5, rel=0.02)
+    assert document["model"]["stribeck_velocity"] == pytest.approx(1e-3, rel=0.05)
+    result = document["fit"]["result"]
+    assert result["rms_error"] == pytest.approx(0.005, rel=0.2)
+    assert result["iterations"] >= 1
+    for key in ("coulomb_force", "static_force", "stribeck_velocity"):
+        assert set(result[key]) == {"value", "standard_error"}
+        assert 0.0 < result[key]["standard_error"] < 0.1 * result[key]["value"]
+    assert plot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert polind.load_model(out).type == "stribeck"
+
+
+@pytest.mark.parametrize("fit_table, fragment", [
+    ({"free": ["roughness"]}, "roughness"),
+    ({"free": ["coulomb_force"], "bounds": {"coulomb_force": [5.0, 6.0]}}, "coulomb_force"),
+])
+def test_fit_bad_fit_table_exits_2_naming_the_key(tmp_path, capsys, fit_table, fragment):
+    data = stribeck_data(tmp_path)
+    model_path = write_toml(tmp_path / "start.toml", {
+        "model": {"type": "stribeck", "coulomb_force": 2.0, "static_force": 3.0,
+                  "stribeck_velocity": 3e-3}, "fit": fit_table})
+    out = tmp_path / "fitted.toml"
+    status, _, err = run(capsys, "fit", model_path, "--data", data, "--output", out)
+    assert status == 2
+    one_error_line(err, "start.toml", fragment)
+    assert not out.exists()
+
+
+def test_fit_bad_data_exits_2_naming_the_file(tmp_path, capsys):
+    data = tmp_path / "data.csv"
+    data.write_text("t,v,F\n0,0.1,1\n1,0.1,nan\n2,0.1,1\n")
+    model_path = write_toml(tmp_path / "start.toml", {
+        "model": {"type": "coulomb", "coulomb_force": 2.0},
+        "fit": {"free": ["coulomb_force"]}})
+    status, _, err = run(capsys, "fit", model_path, "--data", data, "--output",
+                         tmp_path / "fitted.toml")
+    assert status == 2
+    one_error_line(err, "data.csv", "row 3", "'F'")
+    assert not (tmp_path / "fitted.toml").exists()
+
+
+# --- demo and bench -----------------------------------------------------------------------
+
+def test_demo_rejects_a_model_that_is_not_pol_ind(tmp_path, capsys):
+    other = write_toml(tmp_path / "lugre.toml", {"model": LUGRE_1995})
+    status, _, err = run(capsys, "demo", "--out", tmp_path / "report", "--model", other)
+    assert status == 2
+    one_error_line(err, "lugre.toml", "pol-ind")
+    assert not (tmp_path / "report").exists()
+
+
+def test_demo_writes_the_report(tmp_path, capsys):
+    out_dir = tmp_path / "report"
+    status, out, err = run(capsys, "demo", "--out", out_dir)
+    assert status == 0, err
+    metrics = json.loads((out_dir / "metrics.json").read_text())
+    assert set(metrics) == {"stribeck", "presliding_memory", "frictional_lag", "non_drifting",
+                            "stick_slip", "breakaway"}
+    assert all(entry["passed"] is True for entry in metrics.values())
+    assert (out_dir / "report.html").exists()
+    assert len(list(out_dir.glob("*.png"))) >= 6
+    assert "stick_slip" in out
+
+
+def test_bench_rejects_an_unknown_model(capsys):
+    status, _, err = run(capsys, "bench", "--model", "friction-9000")
+    assert status == 2
+    one_error_line(err, "friction-9000", "--model")
+
+
+def test_bench_cases_cover_the_element_counts_and_do_the_same_work():
+    cases = bench.cases()
+    assert ("maxwell-slip", 1024) in cases and ("gms", 64) in cases and ("pol-ind", 1024) in cases
+    row = bench.run_case("pol-ind", 64, kernel_work=1e5, numpy_seconds=0.02, repeats=1)
+    assert row.elements == 64 and row.kernel_rate > 0 and row.numpy_rate > 0
+    assert row.max_difference < 1e-12          # the NumPy loop computes the same forces
+    separation = bench.run_separation(asperities=20_000)
+    assert separation.relative_residual <= 1e-10
