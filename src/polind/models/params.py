@@ -23,7 +23,8 @@ _BOUNDS = {
     "positive": (lambda x: x > 0.0, "positive"),
     "nonnegative": (lambda x: x >= 0.0, "non-negative"),
     "any": (lambda x: True, "finite"),
-    "poisson": (lambda x: -1.0 < x < 0.5, "in the range (-1, 0.5)"),
+    # Outside (-1, 0.5] the elastic energy of an isotropic solid is not positive.
+    "poisson": (lambda x: -1.0 < x <= 0.5, "in the range (-1, 0.5]"),
     "fraction": (lambda x: 0.0 < x <= 1.0, "in the range (0, 1]"),
 }
 
@@ -110,6 +111,21 @@ def _validate_value(ctx, param, value):
     number = _number(ctx, param.key, value, integer=param.kind == "int")
     _check_bound(ctx, param, number)
     return int(number) if param.kind == "int" else number
+
+
+def check_number(owner, key, value, bound="any", *, integer=False, maximum=None):
+    """One number checked with the message template of this module.
+
+    For code outside a model table (the contact mechanics' public
+    functions): ``key`` is named as given, ``bound`` is one of the bounds of
+    :class:`Param`; an integer may have an upper ``maximum``.
+    """
+    ctx = _Context(owner)
+    number = _number(ctx, key, value, integer=integer)
+    _check_bound(ctx, Param(key, bound=bound), number)
+    if maximum is not None and number > maximum:
+        ctx.fail(key, f"at most {maximum}", value)
+    return int(number) if integer else number
 
 
 def validate_table(model_type, entries, table, prefix=""):

@@ -49,7 +49,6 @@ _DISCRETISATION = Table("discretisation", (
     Param("heights_file", kind="path", default=None),
 ), default={})
 
-MAX_ELEMENTS = 1_000_000
 
 
 def default_table() -> dict:
@@ -138,6 +137,8 @@ class PolInd(FrictionModel):
 
     @classmethod
     def _check(cls, params):
+        from polind.contact.elements import MAX_ELEMENTS
+
         count = params["discretisation"]["elements"]
         if not 1 <= count <= MAX_ELEMENTS:
             raise InputError(f"The 'discretisation.elements' parameter of pol-ind must be in the "
