@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-import os
 import tomllib
 from pathlib import Path
 
@@ -15,21 +14,14 @@ import polind
 from polind import bench, cli
 from polind.models.pol_ind import default_table
 
+try:
+    from test_cli import no_debug, run  # noqa: F401 - no_debug is an autouse fixture
+except ImportError:  # tests/ run as a package
+    from tests.test_cli import no_debug, run  # noqa: F401
+
 LUGRE_1995 = {"type": "lugre", "bristle_stiffness": 1e5, "bristle_damping": 1e5 ** 0.5,
               "viscous_coefficient": 0.4, "coulomb_force": 1.0, "static_force": 1.5,
               "stribeck_velocity": 1e-3}
-
-
-@pytest.fixture(autouse=True)
-def no_debug(monkeypatch):
-    monkeypatch.delenv("POLIND_DEBUG", raising=False)
-
-
-def run(capsys, *args):
-    with pytest.raises(SystemExit) as exit_info:
-        cli.main([os.fspath(arg) for arg in args])
-    captured = capsys.readouterr()
-    return exit_info.value.code, captured.out, captured.err
 
 
 def one_error_line(err, *fragments):
