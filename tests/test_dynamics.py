@@ -267,7 +267,7 @@ def test_bdf2_state_follows_the_path_and_rate_terms_use_the_body_velocity(model_
     np.testing.assert_allclose(res.force[1:], expected[1:], rtol=0, atol=1e-9 * scale)
 
 
-@settings(max_examples=30, deadline=None)
+@settings(max_examples=30, deadline=None, derandomize=True)
 @given(seed=st.integers(0, 2 ** 32 - 1), elements=st.integers(1, 12),
        model_type=st.sampled_from(["maxwell-slip", "gms"]),
        stiffness_decades=st.floats(2.0, 9.0), mass=st.floats(1e-3, 10.0),
