@@ -192,7 +192,7 @@ def test_lugre_drifts_steadily(lugre):
     assert not result.passed and not result.expected and result.as_expected
     m = result.metrics
     assert m["drifts"]
-    assert 6.3e-6 < m["steady_advance"] < 6.9e-6
+    assert 6.55e-6 < m["steady_advance"] < 6.72e-6   # MODELS.md 7.7: about 6.6 um
     advance = np.asarray(m["advance_per_cycle"])
     assert np.ptp(advance[1:]) < 0.01 * advance[-1]
 

@@ -24,6 +24,12 @@ class Leuven(FrictionModel):
     step's end); at the first sample of a fresh run no step has been taken
     and it is 0, so ``F[0] = sigma2 v[0]``.
 
+    With ``static_force < coulomb_force`` (velocity strengthening) the model
+    cannot reach the Stribeck curve: ``sum W_i = Fs`` bounds ``|Fh|`` below
+    ``g(v)``, so ``dz/dt`` never vanishes and steady sliding gives
+    ``Fs + sigma1 v (1 - (Fs/g(v))^n) + sigma2 v``.  That follows from
+    MODELS.md 6 as written; polind keeps it rather than change the model.
+
     Parameters
     ----------
     stiffness : list of float

@@ -20,6 +20,11 @@ time-varying load):
 * A continuation (``state=``) reuses the state's table; a load above the
   load the table was built for is an error (start the first chunk with the
   largest load, or pass the whole record at once).
+* The separation ``d(t)`` is solved on the continuous surface (MODELS.md
+  7.4).  Statistical bins are placed for the largest load, so far below it
+  the table is coarser: with 64 bins built at 100 N the presliding
+  stiffness is 0.03 % low at 50 N, 0.15 % at 5 N and 26 % at 1 N (one bin
+  left in contact).  For loads that vary over decades, use more elements.
 """
 
 from __future__ import annotations
