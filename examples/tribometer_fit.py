@@ -29,10 +29,10 @@ of about 5 N.  What this script does with it:
    full record in about the same time on two cores; it may land in another
    of the nearby local minima, e.g. Pol-Ind at 0.21 N instead of 0.19 N.)
 4. **Fits.**  A Maxwell-slip element set by NNLS (the structure fit,
-   :func:`polind.identify.identify_maxwell_slip`) gives the starting
+   :func:`polind.identification.identify_maxwell_slip`) gives the starting
    stiffnesses of GMS and of LuGre's bristle; LuGre, GMS and Pol-Ind are
    then fitted by bounded nonlinear least squares
-   (:func:`polind.identify.identify`).  Pol-Ind is given the measured normal
+   (:func:`polind.identify`).  Pol-Ind is given the measured normal
    load sample by sample.  Bounds keep the Stribeck parameters physical: a
    record at one sliding speed says little about the Stribeck curve, and
    without bounds the fit trades ``static_force`` against
@@ -68,7 +68,7 @@ import numpy as np
 
 import polind
 from polind import io
-from polind.identify import identify, identify_gms, identify_maxwell_slip, plot_fit
+from polind.identification import identify, identify_gms, identify_maxwell_slip, plot_fit
 
 DATA = Path("/work/shared/data/tribometer_reciprocating.tsv")
 COLUMNS = ("Time [s]", "Normal [uN]", "Position [mm]", "Friction [uN]")

@@ -206,3 +206,22 @@ def test_bench_cases_cover_the_element_counts_and_do_the_same_work():
     assert row.max_difference < 1e-12          # the NumPy loop computes the same forces
     separation = bench.run_separation(asperities=20_000)
     assert separation.relative_residual <= 1e-10
+
+
+def test_demo_into_an_uncreatable_directory_exits_2_before_running(tmp_path, capsys):
+    blocker = tmp_path / "file"
+    blocker.write_text("not a directory")
+    status, out, err = run(capsys, "demo", "--out", blocker / "report")
+    assert status == 2 and out == ""
+    one_error_line(err, "report", "directory")
+
+
+def test_dynamics_with_an_absurd_sample_count_exits_2(tmp_path, capsys):
+    model_path = write_toml(tmp_path / "lugre.toml", {"model": LUGRE_1995})
+    system_path = write_toml(tmp_path / "system.toml", {"system": {
+        "mass": 1.0, "duration": 1e12, "time_step": 1e-6, "force": {"offset": 0.5}}})
+    status, _, err = run(capsys, "dynamics", model_path, "--system", system_path,
+                         "--output", tmp_path / "out.csv")
+    assert status == 2
+    one_error_line(err, "system.toml", "samples")
+    assert not (tmp_path / "out.csv").exists()

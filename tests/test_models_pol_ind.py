@@ -260,7 +260,7 @@ def test_continuation_above_the_tables_load_is_an_error():
     t = np.linspace(0.0, 0.1, 11)
     res = polind.simulate(model, t, x=1e-8 * t, normal_load=np.full(11, 50.0))
     with pytest.raises(polind.InputError, match="normal_load"):
-        polind.simulate(model, t + 0.1, x=1e-8 * t, normal_load=np.full(11, 80.0),
+        polind.simulate(model, t + 0.1, x=1e-8 * (t + 0.1), normal_load=np.full(11, 80.0),
                         state=res.final_state)
 
 

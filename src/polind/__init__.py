@@ -14,13 +14,17 @@ from polind.simulate import SimulationResult, simulate
 
 __all__ = ["InputError", "MODEL_TYPES", "FrictionModel", "State", "SimulationResult",
            "load_model", "model_from_dict", "simulate", "System", "SystemResult",
-           "load_system", "simulate_system", "identify", "FitResult"]
+           "load_system", "simulate_system", "identify", "FitResult",
+           "identify_maxwell_slip", "identify_gms", "identify_stribeck"]
 __version__ = "0.1.0"
 
 # The one-degree-of-freedom and identification APIs load numba kernels and
 # SciPy: import them on first use
 # (PEP 562) so `import polind` stays fast.
-_LAZY = {"identify": "polind.identify", "FitResult": "polind.identify",
+_LAZY = {"identify": "polind.identification", "FitResult": "polind.identification",
+         "identify_maxwell_slip": "polind.identification",
+         "identify_gms": "polind.identification",
+         "identify_stribeck": "polind.identification",
          "System": "polind.dynamics", "SystemResult": "polind.dynamics",
          "load_system": "polind.dynamics", "simulate_system": "polind.dynamics"}
 

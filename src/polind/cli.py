@@ -146,9 +146,11 @@ def simulate(model_path, motion_path, output_path):
     check_output_path(output_path)
     model = load_model(model_path)
     motion = io.read_motion_csv(motion_path)
-    with blame(motion_path):
+    with blame(motion_path), progress(total=len(motion["t"]), description="simulate",
+                                      unit=" samples") as bar:
         result = polind.simulate(model, motion["t"], x=motion.get("x"), v=motion.get("v"),
-                                 normal_load=motion.get("normal_load"))
+                                 normal_load=motion.get("normal_load"),
+                                 progress=lambda done, total: bar.update(done - bar.n))
     io.write_csv_atomic(output_path, {"t": result.t, "x": result.x, "v": result.v,
                                       "F": result.force})
     click.echo(f"wrote {output_path}: {len(result.t)} samples")
@@ -219,7 +221,7 @@ def bench(models):
     rows = []
     click.echo("polind bench: one thread, best of 3 timed runs after a warm-up")
     click.echo(benchmark.format_table([]))
-    with progress(total=len(cases), description="bench", unit="case") as bar:
+    with progress(total=len(cases), description="bench", unit=" cases") as bar:
         for model_type, n in cases:
             rows.append(benchmark.run_case(model_type, n))
             bar.clear()
@@ -253,7 +255,7 @@ def dynamics(model_path, system_path, output_path):
     with blame(system_path):
         system = polind.load_system(system_path)
     steps = len(system.times) - 1
-    with progress(total=steps, description="dynamics") as bar:
+    with progress(total=steps, description="dynamics", unit=" steps") as bar:
         def advance(done, total):
             bar.update(done - bar.n)
 
@@ -286,8 +288,16 @@ def demo(out_dir, model_path):
         if model.type != "pol-ind":
             raise InputError(f"{model_path}: 'polind demo --model' needs a model of type "
                              f"'pol-ind'. Got '{model.type}' instead.")
+    try:
+        Path(out_dir).mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        raise InputError(f"{out_dir}: cannot create the report directory "
+                         f"({error.strerror or error}); expected a writable directory.") from None
+    if not os.access(out_dir, os.W_OK):
+        raise InputError(f"{out_dir}: the report directory is not writable; expected a "
+                         f"writable directory.")
     started = time.perf_counter()
-    with progress(description="demo", unit="experiment") as bar:
+    with progress(description="demo", unit=" experiments") as bar:
         summary = run_demo(out_dir, progress=bar, model=model)
     click.echo(summary["table"])
     click.echo(f"\nwrote {Path(out_dir) / 'report.html'}, metrics.json and "
@@ -310,12 +320,7 @@ def fit(model_path, data_path, output_path, plot_path):
     the identified values and [fit.result] (rms_error, iterations, value and
     standard error of every free key).
     """
-    import importlib
-
-    from polind import io
-
-    # polind.identify is also the name of the function the package exports.
-    identification = importlib.import_module("polind.identify")
+    from polind import identification, io
 
     check_output_path(output_path)
     if plot_path is not None:
@@ -324,7 +329,7 @@ def fit(model_path, data_path, output_path, plot_path):
         document = io.read_model_file(model_path)
         model, free, bounds = identification.parse_fit(document)
     data = io.read_motion_csv(data_path, **io.MEASUREMENT_COLUMNS)
-    with progress(description="fit", unit="simulation") as bar:
+    with progress(description="fit", unit=" simulations") as bar:
         def advance(evaluations, rms):
             bar.set_postfix_str(f"rms {rms:.4g} N", refresh=False)
             bar.update()

@@ -37,6 +37,10 @@ _POSITIVE = ("mass", "duration", "time_step")
 _NONNEGATIVE = ("spring_stiffness", "frequency")
 
 
+#: Most output samples a system run may ask for (5 float64 arrays: 4 GB).
+MAX_SAMPLES = 1e8
+
+
 @dataclass(frozen=True)
 class System:
     """A one-degree-of-freedom system (MODELS.md 8; the ``[system]`` file of INTERFACE.md).
@@ -99,6 +103,11 @@ class System:
         if self.time_step > self.duration:
             raise InputError(f"The 'time_step' parameter of the system must not exceed its "
                              f"duration ({self.duration!r}). Got {self.time_step!r} instead.")
+        samples = self.duration / self.time_step
+        if samples > MAX_SAMPLES:
+            raise InputError(f"The 'duration' / 'time_step' of the system asks for {samples:.3g} "
+                             f"samples; expected at most {MAX_SAMPLES:.0e} (five arrays of them "
+                             f"are kept in memory).")
 
     @property
     def times(self) -> np.ndarray:

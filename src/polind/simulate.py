@@ -15,7 +15,10 @@ import numpy as np
 from polind.errors import InputError, describe
 from polind.models import FrictionModel, Path, State
 
-__all__ = ["SimulationResult", "simulate", "as_samples"]
+__all__ = ["SimulationResult", "simulate", "as_samples", "CHUNK"]
+
+#: Samples per kernel call in a long run (bounded memory per call, progress between calls).
+CHUNK = 1 << 18
 
 
 @dataclass
@@ -80,6 +83,34 @@ def _time(t):
     return t, steps
 
 
+def _finite_motion(name, what, values):
+    bad = np.flatnonzero(~np.isfinite(values))
+    if bad.size:
+        raise InputError(f"The '{name}' samples overflow: their {what} are not finite from "
+                         f"index {bad[0]} on. Use SI units (m, m/s, s) of a physical size.")
+
+
+def _check_continuation(state, t, x, v):
+    """A chunk continues a state only from the state's own last sample (INTERFACE.md)."""
+    def same(a, b):
+        return a == b or abs(a - b) <= 1e-12 * max(abs(a), abs(b))
+
+    t0 = float(np.asarray(t, dtype=np.float64).reshape(-1)[0])
+    if not same(t0, state.time):
+        raise InputError(f"The 't' samples of a continued run must start at the state's time "
+                         f"{state.time!r} (repeat the previous last sample). Got t[0] = {t0!r}.")
+    if x is not None:
+        x0 = float(np.asarray(x, dtype=np.float64).reshape(-1)[0])
+        if not same(x0, state.position):
+            raise InputError(f"The 'x' samples of a continued run must start at the state's "
+                             f"position {state.position!r}. Got x[0] = {x0!r}.")
+    else:
+        v0 = float(np.asarray(v, dtype=np.float64).reshape(-1)[0])
+        if not same(v0, state.velocity):
+            raise InputError(f"The 'v' samples of a continued run must start at the state's "
+                             f"velocity {state.velocity!r}. Got v[0] = {v0!r}.")
+
+
 def make_path(t, x=None, v=None, state=None) -> Path:
     """Cut a prescribed motion into steps at constant velocity (INTERFACE.md).
 
@@ -96,25 +127,29 @@ def make_path(t, x=None, v=None, state=None) -> Path:
     t, h = _time(t)
     n = t.shape[0]
     step = np.concatenate(([0.0], h))
-    if x is not None:
-        x = as_samples("x", x, n)
-        displacement = np.concatenate(([0.0], np.diff(x)))
-        step_velocity = np.concatenate(([0.0], displacement[1:] / h))
-        sample_velocity = step_velocity.copy()
-        sample_velocity[0] = step_velocity[1] if state is None else state.velocity
-    else:
-        sample_velocity = as_samples("v", v, n)
-        step_velocity = np.concatenate(([0.0], 0.5 * (sample_velocity[:-1] + sample_velocity[1:])))
-        displacement = step_velocity * step
-        start = 0.0 if state is None else state.position
-        # Accumulate sequentially from the start so a chunked run adds in the same order.
-        x = np.add.accumulate(np.concatenate(([start], displacement[1:])))
+    with np.errstate(over="ignore", invalid="ignore"):
+        if x is not None:
+            x = as_samples("x", x, n)
+            displacement = np.concatenate(([0.0], np.diff(x)))
+            step_velocity = np.concatenate(([0.0], displacement[1:] / h))
+            _finite_motion("x", "step velocities", step_velocity)
+            sample_velocity = step_velocity.copy()
+            sample_velocity[0] = step_velocity[1] if state is None else state.velocity
+        else:
+            sample_velocity = as_samples("v", v, n)
+            step_velocity = np.concatenate(([0.0], 0.5 * (sample_velocity[:-1]
+                                                          + sample_velocity[1:])))
+            displacement = step_velocity * step
+            start = 0.0 if state is None else state.position
+            # Accumulate sequentially from the start so a chunked run adds in the same order.
+            x = np.add.accumulate(np.concatenate(([start], displacement[1:])))
+            _finite_motion("v", "integrated displacements", x)
     return Path(t=t, x=x, step=step, displacement=displacement, step_velocity=step_velocity,
                 sample_velocity=sample_velocity)
 
 
 def simulate(model: FrictionModel, t, x=None, v=None, *, normal_load=None,
-             state: State | None = None) -> SimulationResult:
+             state: State | None = None, progress=None) -> SimulationResult:
     """Simulate a friction model along a prescribed motion.
 
     Parameters
@@ -134,7 +169,12 @@ def simulate(model: FrictionModel, t, x=None, v=None, *, normal_load=None,
         A previous result's ``final_state``.  Start the chunk with the
         previous chunk's last sample repeated; the force there equals the
         previous last force, and the split run equals one run (to
-        floating-point reassociation).
+        floating-point reassociation).  ``t[0]`` must be the state's time
+        and ``x[0]`` its position (or ``v[0]`` its velocity).
+    progress : callable, optional
+        ``progress(done, total)`` [samples], called as the run advances
+        (polind runs long motions in fixed chunks of :data:`CHUNK` samples
+        whether or not a callback is given, so results do not depend on it).
 
     Returns
     -------
@@ -159,6 +199,8 @@ def simulate(model: FrictionModel, t, x=None, v=None, *, normal_load=None,
                              f"State.from_dict). Got {describe(state)} instead.")
         model.check_state(state)
     path = make_path(t, x, v, state)
+    if state is not None:
+        _check_continuation(state, path.t, x, v)
     load = None
     if normal_load is not None:
         if not model.takes_normal_load:
@@ -166,7 +208,7 @@ def simulate(model: FrictionModel, t, x=None, v=None, *, normal_load=None,
                              f"model is '{model.type}'.")
         load = as_samples("normal_load", normal_load, path.t.shape[0], positive=True)
     run_state = state.copy() if state is not None else model.initial_state(load)
-    force = np.asarray(model._advance(path, run_state, load), dtype=np.float64)
+    force = _advance_in_chunks(model, path, run_state, load, progress)
     if state is not None:
         force[0] = state.force
     run_state.time = float(path.t[-1])
@@ -175,3 +217,34 @@ def simulate(model: FrictionModel, t, x=None, v=None, *, normal_load=None,
     run_state.force = float(force[-1])
     return SimulationResult(t=path.t, x=path.x, v=path.sample_velocity, force=force,
                             final_state=run_state, normal_load=load)
+
+
+def _slice(path: Path, lo: int, hi: int) -> Path:
+    return Path(*(getattr(path, name)[lo:hi] for name in
+                  ("t", "x", "step", "displacement", "step_velocity", "sample_velocity")))
+
+
+def _advance_in_chunks(model, path, state, load, progress):
+    """Run the kernel over the path in chunks of CHUNK samples; return the forces.
+
+    Chunks overlap by one sample (a chunk starts at the previous chunk's last
+    sample, as a continuation does), and the chunking is the same with or
+    without ``progress``.
+    """
+    n = path.t.shape[0]
+    force = np.empty(n)
+    lo = 0
+    while True:
+        hi = min(lo + CHUNK, n)
+        part = _slice(path, lo, hi)
+        chunk_load = None if load is None else load[lo:hi]
+        out = np.asarray(model._advance(part, state, chunk_load), dtype=np.float64)
+        if lo == 0:
+            force[:hi] = out
+        else:
+            force[lo + 1:hi] = out[1:]
+        if progress is not None:
+            progress(hi, n)
+        if hi == n:
+            return force
+        lo = hi - 1

@@ -109,8 +109,10 @@ def _validate_value(ctx, param, value):
             numbers.append(number)
         return numbers
     number = _number(ctx, param.key, value, integer=param.kind == "int")
+    if param.kind == "int":
+        number = int(number)
     _check_bound(ctx, param, number)
-    return int(number) if param.kind == "int" else number
+    return number
 
 
 def check_number(owner, key, value, bound="any", *, integer=False, maximum=None):
@@ -122,6 +124,7 @@ def check_number(owner, key, value, bound="any", *, integer=False, maximum=None)
     """
     ctx = _Context(owner)
     number = _number(ctx, key, value, integer=integer)
+    number = int(number) if integer else number
     _check_bound(ctx, Param(key, bound=bound), number)
     if maximum is not None and number > maximum:
         ctx.fail(key, f"at most {maximum}", value)

@@ -17,7 +17,7 @@ import pytest
 import polind
 from polind import io
 from polind.errors import InputError
-from polind.identify import (FitResult, identify, identify_gms, identify_maxwell_slip,
+from polind.identification import (FitResult, identify, identify_gms, identify_maxwell_slip,
                              identify_stribeck, parse_fit, plot_fit)
 
 

@@ -162,13 +162,13 @@ def _measurement(data, *, normal_load_ok: bool = True) -> _Data:
         raise InputError(f"Identification needs at least 3 samples. Got {n} samples of 't'.")
     make_path(t, x=x, v=v)          # t strictly increasing, named in the error
     if x is not None and np.ptp(x) == 0.0:
-        raise InputError(f"The 'x' samples never change (all {x[0]!r}): the data hold no "
+        raise InputError(f"The 'x' samples never change (all {float(x[0])!r}): the data hold no "
                          "motion, so no friction parameter can be identified.")
     if v is not None and not np.any(v):
         raise InputError("The 'v' samples are all 0: the data hold no motion, so no friction "
                          "parameter can be identified.")
     if np.ptp(force) == 0.0:
-        raise InputError(f"The 'F' samples are all equal ({force[0]!r}): a constant force "
+        raise InputError(f"The 'F' samples are all equal ({float(force[0])!r}): a constant force "
                          "carries no information to identify parameters from.")
     return _Data(t=t, force=force, x=x, v=v, normal_load=load)
 
@@ -364,11 +364,17 @@ def _bounds(model: FrictionModel, keys: list[str], bounds) -> dict[str, tuple[fl
     pairs = {key: _pair(key, value) for key, value in flat.items()}
     params = model.params
     for key, (low, high) in pairs.items():
+        declaration = _declaration(model, key)
+        if declaration is not None and declaration.bound in ("positive", "nonnegative") \
+                and low < 0.0:
+            raise InputError(f"The bounds of '{key}' in [fit.bounds] must have low >= 0: the "
+                             f"parameter is {declaration.bound}. Got [{low!r}, {high!r}] "
+                             "instead.")
         start = np.atleast_1d(np.asarray(_get(params, key), dtype=np.float64))
         outside = (start < low) | (start > high)
         if np.any(outside):
             raise InputError(f"The bounds [{low!r}, {high!r}] of '{key}' in [fit.bounds] "
-                             f"exclude its starting value {start[np.argmax(outside)]!r}.")
+                             f"exclude its starting value {float(start[np.argmax(outside)])!r}.")
     return pairs
 
 
@@ -677,7 +683,7 @@ def identify(model, data, *, free=None, bounds=None, max_evaluations=None, toler
     Examples
     --------
     >>> import numpy as np, polind
-    >>> from polind.identify import identify
+    >>> from polind.identification import identify
     >>> true = polind.model_from_dict({"model": {"type": "dahl", "stiffness": 1e5,
     ...                                          "coulomb_force": 1.0}})
     >>> t = np.linspace(0.0, 2.0, 201)
@@ -826,7 +832,7 @@ def identify_maxwell_slip(data, slip_distances=None, n=24, *, viscous=False):
     Examples
     --------
     >>> import numpy as np, polind
-    >>> from polind.identify import identify_maxwell_slip
+    >>> from polind.identification import identify_maxwell_slip
     >>> true = polind.model_from_dict({"model": {"type": "maxwell-slip",
     ...     "stiffness": [1e6, 1e5], "breakaway_force": [1.0, 2.0]}})
     >>> t = np.linspace(0.0, 1.0, 401)
@@ -945,7 +951,7 @@ def identify_stribeck(v, F, *, model=None, free=None, bounds=None, stribeck_shap
     Examples
     --------
     >>> import numpy as np
-    >>> from polind.identify import identify_stribeck
+    >>> from polind.identification import identify_stribeck
     >>> v = np.geomspace(1e-5, 1e-1, 30)
     >>> F = 1.0 + 0.5 * np.exp(-(v / 1e-3) ** 2)
     >>> fit = identify_stribeck(v, F)
