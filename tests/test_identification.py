@@ -53,18 +53,6 @@ GMS = {"type": "gms", "stiffness": [1e5, 2e4], "weight": [0.4, 0.6], "attraction
        "viscous_coefficient": 0.4}
 
 
-def pol_ind_available() -> bool:
-    """Whether the pol-ind model can be built (it may still be unregistered in the package)."""
-    import importlib
-
-    try:
-        module = importlib.import_module("polind.models.pol_ind")   # registers the type
-        polind.model_from_dict({"model": module.default_table()})
-        return True
-    except (ImportError, AttributeError, InputError):
-        return False
-
-
 # --- round trips -----------------------------------------------------------------------------
 
 def test_stribeck_round_trip_from_a_factor_two_away():
@@ -119,7 +107,6 @@ def test_gms_round_trip_with_element_vectors_free():
     assert len(fit.standard_errors["stiffness"]) == 2
 
 
-@pytest.mark.skipif(not pol_ind_available(), reason="the pol-ind model is not available yet")
 def test_pol_ind_round_trip_with_a_varying_normal_load():
     from polind.models.pol_ind import default_table
 
