@@ -39,7 +39,7 @@ class MaxwellSlip(FrictionModel):
     >>> model = polind.model_from_dict({"model": {"type": "maxwell-slip",
     ...     "stiffness": [1e6, 1e5], "breakaway_force": [1.0, 1.0]}})
     >>> polind.simulate(model, np.array([0.0, 1.0, 2.0]), x=np.array([0.0, 2e-6, 0.0])).force
-    array([0. , 1.2, 0. ])
+    array([ 0. ,  1.2, -1. ])
     """
 
     type = "maxwell-slip"
