@@ -39,11 +39,13 @@ def test_stribeck_shape_codes_match_the_curve_definitions():
 
 
 @pytest.mark.parametrize("model_type, n", [("maxwell-slip", 1), ("maxwell-slip", 64),
-                                           ("gms", 1), ("gms", 64), ("lugre", 1), ("dahl", 1)])
+                                           ("gms", 1), ("gms", 64), ("pol-ind", 16),
+                                           ("leuven", 1), ("leuven", 16), ("lugre", 1),
+                                           ("dahl", 1), ("stribeck", 1)])
 def test_kernels_agree_with_the_plain_numpy_loops_of_the_benchmark(model_type, n):
     # The benchmark's ratio is only meaningful if both sides do the same work.
     model = bench.bench_model(model_type, n)
-    path = bench.bench_path(4000)
+    path = bench.bench_path(4000 if model_type != "leuven" else 400)
     kernel = model._advance(path, model.initial_state(), None)
     reference = bench._numpy_reference(model, path)
     scale = np.max(np.abs(reference))

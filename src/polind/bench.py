@@ -68,6 +68,8 @@ def bench_model(model_type, n):
                      bristle_damping=10.0, **_STRIBECK)
     elif model_type == "lugre":
         table.update(bristle_stiffness=1e5, bristle_damping=316.2, **_STRIBECK)
+    elif model_type == "stribeck":
+        table.update(viscous_coefficient=0.4, **_STRIBECK)
     elif model_type == "dahl":
         table.update(stiffness=1e5, coulomb_force=1.0)
     elif model_type == "pol-ind":
@@ -148,6 +150,39 @@ def numpy_dahl(path, sigma0, fc):
     return out
 
 
+def numpy_leuven(path, stiffness, breakaway, exponent, sigma1, fc, fs, vs, delta):
+    """Backward Euler on MODELS.md 6, the increment solved by brentq per step."""
+    from scipy.optimize import brentq
+
+    force = np.zeros_like(stiffness)
+    out = np.empty(path.t.shape[0])
+    out[0] = 0.0
+    bound = breakaway.sum()
+    for k in range(1, path.t.shape[0]):
+        v, h = path.step_velocity[k], path.step[k]
+        dz = 0.0
+        if v != 0.0:
+            s = np.sign(v) * stribeck_curve(v, fc, fs, vs, delta)
+
+            def residual(increment):
+                r = np.clip(force + stiffness * increment, -breakaway, breakaway).sum() / s
+                return increment - v * h * (1.0 - np.sign(r) * abs(r) ** exponent)
+
+            reach = abs(v * h) * (1.0 + (bound / abs(s)) ** exponent) * 1.000001
+            dz = brentq(residual, -reach, reach, xtol=1e-300, rtol=1e-15)
+        force = np.clip(force + stiffness * dz, -breakaway, breakaway)
+        out[k] = force.sum() + sigma1 * dz / h
+    return out
+
+
+def numpy_stribeck(path, fc, fs, vs, delta, sigma2):
+    out = np.empty(path.t.shape[0])
+    for k in range(path.t.shape[0]):
+        v = path.sample_velocity[k]
+        out[k] = np.sign(v) * stribeck_curve(v, fc, fs, vs, delta) + sigma2 * v
+    return out
+
+
 def _numpy_reference(model, path):
     p = model.params
     curve = [p.get(key) for key in ("coulomb_force", "static_force", "stribeck_velocity",
@@ -163,6 +198,11 @@ def _numpy_reference(model, path):
         return numpy_gms(path, table.stiffness, table.weight, p["attraction"],
                          p["kinetic_coefficient"] * n, p["static_coefficient"] * n,
                          p["stribeck_velocity"], p["stribeck_exponent"])
+    if model.type == "leuven":
+        return numpy_leuven(path, np.array(p["stiffness"]), np.array(p["breakaway_force"]),
+                            p["exponent"], p["bristle_damping"], *curve)
+    if model.type == "stribeck":
+        return numpy_stribeck(path, *curve, p["viscous_coefficient"])
     if model.type == "lugre":
         return numpy_lugre(path, p["bristle_stiffness"], p["bristle_damping"], *curve)
     if model.type == "dahl":
@@ -180,18 +220,30 @@ def _best_time(function, repeats):
     return best, result
 
 
-def run_case(model_type, n, kernel_work=3e8, numpy_seconds=1.0, repeats=3):
-    """Time one model at ``n`` elements; returns a :class:`BenchRow`."""
+def _steps_for(seconds, probe_steps, probe_time, low, high):
+    """Steps that take about ``seconds``, judged from a probe run."""
+    per_step = max(probe_time, 1e-9) / probe_steps
+    return int(min(max(seconds / per_step, low), high))
+
+
+def run_case(model_type, n, kernel_seconds=0.3, numpy_seconds=1.0, repeats=3):
+    """Time one model at ``n`` elements; returns a :class:`BenchRow`.
+
+    Both sides are sized from a probe run to take about ``kernel_seconds``
+    and ``numpy_seconds``; the kernel is timed best of ``repeats``.
+    """
     model = bench_model(model_type, n)
     elements = n if model_type in ("maxwell-slip", "gms", "leuven", "pol-ind") else 1
-    warm = bench_path(64)
-    model._advance(warm, model.initial_state(), None)
-    # Size the kernel run by the work wanted; the NumPy run by time (it is far slower).
-    steps = int(min(max(kernel_work / elements, 2e4), 2e7))
+    probe = bench_path(20_000)
+    model._advance(bench_path(64), model.initial_state(), None)     # compile / load cache
+    probe_time, _ = _best_time(lambda: model._advance(probe, model.initial_state(), None), 1)
+    steps = _steps_for(kernel_seconds, 20_000, probe_time, 2e4, 5e7)
     path = bench_path(steps)
-    kernel_time, kernel_force = _best_time(
+    kernel_time, _ = _best_time(
         lambda: model._advance(path, model.initial_state(), None), repeats)
-    numpy_steps = max(200, min(steps, int(numpy_seconds * 2e5 / max(1.0, elements / 64.0))))
+    probe_numpy = bench_path(100)
+    numpy_probe_time, _ = _best_time(lambda: _numpy_reference(model, probe_numpy), 1)
+    numpy_steps = _steps_for(numpy_seconds, 100, numpy_probe_time, 200, steps)
     short = bench_path(numpy_steps)
     numpy_time, numpy_force = _best_time(lambda: _numpy_reference(model, short), 1)
     reference = model._advance(short, model.initial_state(), None)
@@ -205,8 +257,9 @@ def cases(models=None):
     """The (model, element count) pairs the benchmark runs."""
     from polind.models import MODEL_TYPES
 
-    element_models = [m for m in ("maxwell-slip", "gms", "pol-ind") if m in MODEL_TYPES]
-    single = ["lugre", "dahl"]
+    element_models = [m for m in ("maxwell-slip", "gms", "pol-ind", "leuven")
+                      if m in MODEL_TYPES]
+    single = ["lugre", "dahl", "stribeck"]
     chosen = models or element_models + single
     out = []
     for model_type in chosen:
