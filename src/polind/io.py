@@ -597,19 +597,23 @@ def _format_rows(table, rows_per_chunk=8192):
         yield (row_format * chunk.shape[0]) % tuple(chunk.ravel().tolist())
 
 
-def _plain(value):
+def plain_data(value, *, for_toml=True):
     """Python types TOML and JSON can hold: numpy scalars/arrays and tuples become
-    floats and lists, paths strings; ``None`` entries are dropped (TOML has no null:
-    an absent key means its default)."""
+    floats and lists, paths strings.  For TOML (``for_toml=True``) ``None`` entries
+    are dropped (TOML has no null: an absent key means its default); for JSON
+    non-finite floats become ``None`` (``null``), which strict JSON readers need."""
     if isinstance(value, dict):
-        return {str(key): _plain(item) for key, item in value.items() if item is not None}
+        return {str(key): plain_data(item, for_toml=for_toml) for key, item in value.items()
+                if not (for_toml and item is None)}
     if isinstance(value, (list, tuple, np.ndarray)):
-        return [_plain(item) for item in (value.tolist() if isinstance(value, np.ndarray)
-                                          else value)]
+        items = value.tolist() if isinstance(value, np.ndarray) else value
+        return [plain_data(item, for_toml=for_toml) for item in items]
     if isinstance(value, np.generic):
-        return value.item()
+        value = value.item()
     if isinstance(value, os.PathLike):
         return os.fspath(value)
+    if not for_toml and isinstance(value, float) and not math.isfinite(value):
+        return None
     return value
 
 
@@ -619,7 +623,7 @@ def write_model_file(path, document: dict) -> None:
     TOML, or JSON (indented) if the name ends in ``.json``; the inverse of
     :func:`read_model_file`.
     """
-    plain = _plain(document)
+    plain = plain_data(document)
     if Path(path).suffix.lower() == ".json":
         text = json.dumps(plain, indent=2) + "\n"
     else:

@@ -48,6 +48,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from polind.errors import InputError
+from polind.io import plain_data
 from polind.models.static import stribeck_curve
 from polind.simulate import simulate
 
@@ -296,24 +297,8 @@ class PhenomenonResult:
     def to_dict(self) -> dict:
         """The JSON-able summary: ``passed``, ``expected``, metrics and settings (no arrays)."""
         return {"passed": bool(self.passed), "expected": bool(self.expected),
-                "as_expected": bool(self.as_expected), **_plain(self.metrics),
-                "settings": _plain(self.settings), "note": self.note}
-
-
-def _plain(value):
-    """Numbers and arrays as plain Python floats and lists (for JSON)."""
-    if isinstance(value, dict):
-        return {str(key): _plain(item) for key, item in value.items()}
-    if isinstance(value, (list, tuple, np.ndarray)):
-        return [_plain(item) for item in value]
-    if isinstance(value, (bool, np.bool_)):
-        return bool(value)
-    if isinstance(value, (int, np.integer)):
-        return int(value)
-    if isinstance(value, (float, np.floating)):
-        number = float(value)
-        return number if math.isfinite(number) else None
-    return value
+                "as_expected": bool(self.as_expected), **plain_data(self.metrics, for_toml=False),
+                "settings": plain_data(self.settings, for_toml=False), "note": self.note}
 
 
 def _result(phenomenon, levels, passed, metrics, settings, data, note=""):
