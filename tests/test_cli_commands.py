@@ -12,17 +12,13 @@ import tomli_w
 
 import polind
 from polind import bench, cli
+from polind.demo import LUGRE_1995
 from polind.models.pol_ind import default_table
 
 try:
     from test_cli import no_debug, run  # noqa: F401 - no_debug is an autouse fixture
 except ImportError:  # tests/ run as a package
     from tests.test_cli import no_debug, run  # noqa: F401
-
-LUGRE_1995 = {"type": "lugre", "bristle_stiffness": 1e5, "bristle_damping": 1e5 ** 0.5,
-              "viscous_coefficient": 0.4, "coulomb_force": 1.0, "static_force": 1.5,
-              "stribeck_velocity": 1e-3}
-
 
 def one_error_line(err, *fragments):
     assert err.count("\n") == 1 and err.startswith("polind: error: "), repr(err)
