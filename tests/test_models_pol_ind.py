@@ -310,3 +310,22 @@ def test_simulate_does_not_mutate_the_model():
     t = np.linspace(0.0, 0.1, 101)
     polind.simulate(model, t, x=1e-7 * np.sin(60 * t), normal_load=90 + 10 * t)
     assert model.to_dict() == before
+
+
+def test_gms_parameters_are_the_gms_this_model_is_at_its_load():
+    model = pol_ind(viscous_coefficient=0.7, stribeck_shape="rational")
+    got = model.gms_parameters()
+    want = table_as_gms(model)
+    assert set(got) == set(want) - {"type"}
+    for key in got:
+        if isinstance(want[key], str):
+            assert got[key] == want[key]
+        else:
+            np.testing.assert_allclose(got[key], want[key], rtol=1e-15)
+    gms = polind.model_from_dict({"model": {"type": "gms", **{
+        key: (value.tolist() if isinstance(value, np.ndarray) else value)
+        for key, value in got.items()}}})
+    t = np.linspace(0.0, 0.5, 1001)
+    x = 4e-7 * np.sin(2 * np.pi * 6 * t) + 2e-3 * t
+    np.testing.assert_array_equal(polind.simulate(gms, t, x=x).force,
+                                  polind.simulate(model, t, x=x).force)

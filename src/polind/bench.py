@@ -189,15 +189,12 @@ def _numpy_reference(model, path):
                                     "stribeck_exponent")]
     if model.type == "maxwell-slip":
         return numpy_maxwell_slip(path, np.array(p["stiffness"]), np.array(p["breakaway_force"]))
-    if model.type == "gms":
-        return numpy_gms(path, np.array(p["stiffness"]), np.array(p["weight"]), p["attraction"],
-                         *curve)
-    if model.type == "pol-ind":
-        table = model.element_table()
-        n = p["normal_load"]
-        return numpy_gms(path, table.stiffness, table.weight, p["attraction"],
-                         p["kinetic_coefficient"] * n, p["static_coefficient"] * n,
-                         p["stribeck_velocity"], p["stribeck_exponent"])
+    if model.type in ("gms", "pol-ind"):
+        gms = p if model.type == "gms" else model.gms_parameters()
+        return numpy_gms(path, np.array(gms["stiffness"]), np.array(gms["weight"]),
+                         gms["attraction"], *[gms[key] for key in (
+                             "coulomb_force", "static_force", "stribeck_velocity",
+                             "stribeck_exponent")])
     if model.type == "leuven":
         return numpy_leuven(path, np.array(p["stiffness"]), np.array(p["breakaway_force"]),
                             p["exponent"], p["bristle_damping"], *curve)

@@ -84,29 +84,22 @@ def demo_models(pol_ind=None) -> dict:
 
     if pol_ind is None:
         pol_ind = polind.model_from_dict({"model": default_table()})
-    p = pol_ind.params
-    table = pol_ind.element_table()
-    stiffness = [float(k) for k in table.stiffness]
-    capacity = [float(w) for w in table.breakaway_force]
-    total = math.fsum(capacity)
-    weight = [w / total for w in capacity]
-    load = p["normal_load"]
-    slips = [w / k for w, k in zip(capacity, stiffness) if k > 0.0]
+    equivalent = pol_ind.gms_parameters()       # the GMS Pol-Ind is at its load (7.6)
+    stiffness = [float(k) for k in equivalent["stiffness"]]
+    weight = [float(a) for a in equivalent["weight"]]
+    static = equivalent["static_force"]
+    slips = [static * a / k for a, k in zip(weight, stiffness) if k > 0.0]
     count = 8
     shortest = max(slips) / 30.0
     ratio = (max(slips) / shortest) ** (1.0 / (count - 1))
     gms_slip = [shortest * ratio ** i for i in range(count)]
-    static = p["static_coefficient"] * load
-    gms = {
-        "type": "gms", "stiffness": [static / count / d for d in gms_slip],
-        "weight": [1.0 / count] * count, "attraction": p["attraction"],
-        "coulomb_force": p["kinetic_coefficient"] * load,
-        "static_force": static,
-        "stribeck_velocity": p["stribeck_velocity"], "stribeck_exponent": p["stribeck_exponent"],
-        "stribeck_shape": p["stribeck_shape"], "viscous_coefficient": p["viscous_coefficient"],
-    }
+    gms = {key: equivalent[key] for key in (
+        "attraction", "coulomb_force", "static_force", "stribeck_velocity",
+        "stribeck_exponent", "stribeck_shape", "viscous_coefficient")}
+    gms.update(type="gms", stiffness=[static / count / d for d in gms_slip],
+               weight=[1.0 / count] * count)
     maxwell_slip = {"type": "maxwell-slip", "stiffness": stiffness,
-                    "breakaway_force": [p["static_coefficient"] * load * a for a in weight]}
+                    "breakaway_force": [static * a for a in weight]}
     return {
         "Pol-Ind": pol_ind,
         "LuGre": polind.model_from_dict({"model": dict(LUGRE_1995)}),

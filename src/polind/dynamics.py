@@ -230,17 +230,11 @@ def _pack_model(model: FrictionModel):
     elif model.type == "maxwell-slip":
         elements = _element_table(p["stiffness"], p["breakaway_force"])
         scalars[kernel.FORCE_SCALE] = float(np.sum(p["breakaway_force"]))
-    elif model.type == "gms":
-        _stribeck_slots(scalars, *_stribeck_of(p))
-        scalars[kernel.ATTRACTION] = p["attraction"]
-        elements = _element_table(p["stiffness"], p["weight"], weights=True)
-    elif model.type == "pol-ind":
-        load = p["normal_load"]
-        _stribeck_slots(scalars, p["kinetic_coefficient"] * load, p["static_coefficient"] * load,
-                        p["stribeck_velocity"], p["stribeck_exponent"], p["stribeck_shape"])
-        scalars[kernel.ATTRACTION] = p["attraction"]
-        table = model.element_table()
-        elements = _element_table(table.stiffness, table.weight, weights=True)
+    elif model.type in ("gms", "pol-ind"):
+        gms = p if model.type == "gms" else model.gms_parameters()
+        _stribeck_slots(scalars, *_stribeck_of(gms))
+        scalars[kernel.ATTRACTION] = gms["attraction"]
+        elements = _element_table(gms["stiffness"], gms["weight"], weights=True)
     else:  # leuven
         _stribeck_slots(scalars, *_stribeck_of(p))
         scalars[kernel.EXPONENT] = p["exponent"]

@@ -154,15 +154,13 @@ class FrictionLevels:
         return self.stribeck_velocity is not None and self.static_force > self.coulomb_force
 
 
-def _elements(model):
-    """Stiffness k_i [N/m] and capacity W_i [N] of an element model's elements."""
-    p = model.params
-    if model.type == "pol-ind":
-        table = model.element_table()
-        return (np.asarray(table.stiffness, dtype=np.float64),
-                np.asarray(table.breakaway_force, dtype=np.float64))
+def _elements(kind, p):
+    """Stiffness k_i [N/m] and capacity W_i [N] of an element model's elements.
+
+    ``p``: the model's parameters (for pol-ind, those of the GMS it equals).
+    """
     stiffness = np.asarray(p["stiffness"], dtype=np.float64)
-    if model.type == "gms":
+    if kind in ("gms", "pol-ind"):
         return stiffness, np.asarray(p["weight"], dtype=np.float64) * p["static_force"]
     return stiffness, np.asarray(p["breakaway_force"], dtype=np.float64)
 
@@ -187,15 +185,13 @@ def friction_levels(model) -> FrictionLevels:
     >>> levels.static_force, levels.presliding_range
     (3.0, 2e-05)
     """
-    p = model.params
     kind = model.type
+    # At its constant load Pol-Ind is a GMS (MODELS.md 7.6): read its levels as one.
+    p = model.gms_parameters() if kind == "pol-ind" else model.params
     viscous = float(p.get("viscous_coefficient", 0.0))
     curve = {"stribeck_velocity": None, "stribeck_exponent": 2.0,
              "stribeck_shape": "exponential"}
-    if kind == "pol-ind":
-        static = p["static_coefficient"] * p["normal_load"]
-        coulomb = p["kinetic_coefficient"] * p["normal_load"]
-    elif kind in _STRIBECK_TYPES:
+    if kind in _STRIBECK_TYPES:
         static, coulomb = p["static_force"], p["coulomb_force"]
     elif kind == "maxwell-slip":
         static = coulomb = math.fsum(p["breakaway_force"])
@@ -205,7 +201,7 @@ def friction_levels(model) -> FrictionLevels:
         curve = {key: p[key] for key in curve}
     extra = {}
     if kind in _ELEMENT_TYPES:
-        stiffness, capacity = _elements(model)
+        stiffness, capacity = _elements(kind, p)
         presliding = float(np.max(capacity / stiffness))
         slope = float(np.sum(stiffness))
         if kind in ("gms", "pol-ind"):

@@ -177,6 +177,25 @@ class PolInd(FrictionModel):
         """The modified Maxwell-slip element table at a normal load (MODELS.md 7.5)."""
         return self.contact(normal_load).elements
 
+    def gms_parameters(self, normal_load=None) -> dict:
+        """The GMS parameters (MODELS.md 5) this model is at a constant normal load (7.6).
+
+        ``stiffness`` and ``weight`` (arrays) of the element table at the load,
+        ``coulomb_force = mu_k N``, ``static_force = mu_s N``, and the model's
+        own Stribeck velocity, exponent, shape, attraction and viscous term.
+        """
+        p = self._params
+        load = p["normal_load"] if normal_load is None else float(normal_load)
+        table = self.element_table(load)
+        return {"stiffness": table.stiffness, "weight": table.weight,
+                "attraction": p["attraction"],
+                "coulomb_force": p["kinetic_coefficient"] * load,
+                "static_force": p["static_coefficient"] * load,
+                "stribeck_velocity": p["stribeck_velocity"],
+                "stribeck_exponent": p["stribeck_exponent"],
+                "stribeck_shape": p["stribeck_shape"],
+                "viscous_coefficient": p["viscous_coefficient"]}
+
     # --- the stepping contract --------------------------------------------------------
 
     def initial_variables(self, normal_load=None):
@@ -222,11 +241,10 @@ class PolInd(FrictionModel):
         forces = state.variables["element_force"]
         slip = state.variables["slip_direction"]
         if np.all(normal_load == table_load):
-            table = self.element_table(table_load)
-            gms_run(path.step, path.displacement, path.step_velocity, table.stiffness,
-                    table.weight, p["attraction"], p["kinetic_coefficient"] * table_load,
-                    p["static_coefficient"] * table_load, p["stribeck_velocity"],
-                    p["stribeck_exponent"], shape, forces, slip, out)
+            gms = self.gms_parameters(table_load)
+            gms_run(path.step, path.displacement, path.step_velocity, gms["stiffness"],
+                    gms["weight"], gms["attraction"], gms["coulomb_force"], gms["static_force"],
+                    gms["stribeck_velocity"], gms["stribeck_exponent"], shape, forces, slip, out)
         else:
             from polind.contact import solve_separation_series
 
