@@ -9,10 +9,13 @@ The public API (INTERFACE.md)::
 """
 
 from polind.errors import InputError
-from polind.models import MODEL_TYPES, FrictionModel, State, load_model, model_from_dict
+from polind.models import (MODEL_TYPES, FrictionModel, State, StepFunctions, StepKernel,
+                           load_model, model_from_dict, register_model)
+from polind.models.params import Param, Table
 from polind.simulate import SimulationResult, simulate
 
 __all__ = ["InputError", "MODEL_TYPES", "FrictionModel", "State", "SimulationResult",
+           "StepFunctions", "StepKernel", "register_model", "Param", "Table", "Stepper", "Body",
            "load_model", "model_from_dict", "simulate", "System", "SystemResult",
            "load_system", "simulate_system", "identify", "FitResult",
            "identify_maxwell_slip", "identify_gms", "identify_stribeck"]
@@ -25,6 +28,7 @@ _LAZY = {"identify": "polind.identification", "FitResult": "polind.identificatio
          "identify_maxwell_slip": "polind.identification",
          "identify_gms": "polind.identification",
          "identify_stribeck": "polind.identification",
+         "Stepper": "polind.stepper", "Body": "polind.stepper",
          "System": "polind.dynamics", "SystemResult": "polind.dynamics",
          "load_system": "polind.dynamics", "simulate_system": "polind.dynamics"}
 

@@ -21,14 +21,13 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from polind.errors import InputError, describe
-from polind.kernels import dynamics as kernel
-from polind.kernels.stribeck import SHAPE_CODES
+from polind.kernels import dynamics as dynamics_kernel
 from polind.models import FrictionModel, State
-from polind.simulate import simulate
+from polind.simulate import as_samples
 
 __all__ = ["System", "SystemResult", "load_system", "simulate_system"]
 
-METHODS = {"bdf2": kernel.BDF2, "euler": kernel.EULER}
+METHODS = {"bdf2": dynamics_kernel.BDF2, "euler": dynamics_kernel.EULER}
 
 # Steps per kernel call: long runs report progress between chunks.
 _CHUNK = 1 << 16
@@ -167,100 +166,16 @@ class SystemResult:
     final_state: State
 
 
-# --- packing a model into the kernel's arrays -------------------------------------------
+def initial_friction(kernel, velocity, applied):
+    """The friction force at the first sample: the model's force at its state and velocity.
 
-_FAMILY = {"coulomb": kernel.MEMORYLESS, "stribeck": kernel.MEMORYLESS, "dahl": kernel.DAHL,
-           "lugre": kernel.LUGRE, "maxwell-slip": kernel.MAXWELL_SLIP, "gms": kernel.GMS,
-           "pol-ind": kernel.GMS, "leuven": kernel.LEUVEN}
-
-# The model-state variables in the order the kernel lays them out.
-_STATE_KEYS = {kernel.MEMORYLESS: (), kernel.DAHL: ("friction",),
-               kernel.LUGRE: ("deflection",), kernel.MAXWELL_SLIP: ("element_force",),
-               kernel.GMS: ("element_force", "slip_direction"),
-               kernel.LEUVEN: ("element_force", "deflection", "deflection_rate")}
-
-
-def _stribeck_slots(scalars, coulomb, static, velocity, exponent, shape):
-    scalars[kernel.COULOMB] = coulomb
-    scalars[kernel.STATIC] = static
-    scalars[kernel.STRIBECK_VELOCITY] = velocity
-    scalars[kernel.STRIBECK_EXPONENT] = exponent
-    scalars[kernel.STRIBECK_SHAPE] = SHAPE_CODES[shape]
-    scalars[kernel.FORCE_SCALE] = max(coulomb, static)
-
-
-def _stribeck_of(p):
-    return (p["coulomb_force"], p["static_force"], p["stribeck_velocity"],
-            p["stribeck_exponent"], p["stribeck_shape"])
-
-
-def _element_table(stiffness, capacity, weights=False):
-    stiffness = np.asarray(stiffness, dtype=np.float64)
-    capacity = np.asarray(capacity, dtype=np.float64)
-    table = np.zeros((kernel.N_ELEMENT_ROWS, stiffness.shape[0]))
-    table[kernel.ELEMENT_STIFFNESS] = stiffness
-    table[kernel.ELEMENT_CAPACITY] = capacity
-    if weights:   # an element without load (alpha = 0) never carries force: 1/alpha = inf
-        table[kernel.ELEMENT_INVERSE] = np.divide(1.0, capacity, where=capacity > 0.0,
-                                                  out=np.full_like(capacity, np.inf))
-    return table
-
-
-def _pack_model(model: FrictionModel):
-    """``(family, scalars, elements)``: the model's parameters for the kernel."""
-    p = model.params
-    if model.type not in _FAMILY:
-        raise NotImplementedError(f"simulate_system does not know the '{model.type}' model.")
-    family = _FAMILY[model.type]
-    scalars = np.zeros(kernel.N_SCALARS)
-    elements = np.zeros((kernel.N_ELEMENT_ROWS, 0))
-    scalars[kernel.VISCOUS] = p.get("viscous_coefficient", 0.0)
-    if model.type == "coulomb":
-        # Coulomb is the Stribeck curve with Fs = Fc (g is then constant).
-        _stribeck_slots(scalars, p["coulomb_force"], p["coulomb_force"], 1.0, 1.0, "exponential")
-    elif model.type in ("stribeck", "lugre"):
-        _stribeck_slots(scalars, *_stribeck_of(p))
-        scalars[kernel.STIFFNESS] = p.get("bristle_stiffness", 0.0)
-        scalars[kernel.DAMPING] = p.get("bristle_damping", 0.0)
-    elif model.type == "dahl":
-        scalars[kernel.STIFFNESS] = p["stiffness"]
-        scalars[kernel.COULOMB] = p["coulomb_force"]
-        scalars[kernel.EXPONENT] = p["exponent"]
-        scalars[kernel.FORCE_SCALE] = p["coulomb_force"]
-    elif model.type == "maxwell-slip":
-        elements = _element_table(p["stiffness"], p["breakaway_force"])
-        scalars[kernel.FORCE_SCALE] = float(np.sum(p["breakaway_force"]))
-    elif model.type in ("gms", "pol-ind"):
-        gms = p if model.type == "gms" else model.gms_parameters()
-        _stribeck_slots(scalars, *_stribeck_of(gms))
-        scalars[kernel.ATTRACTION] = gms["attraction"]
-        elements = _element_table(gms["stiffness"], gms["weight"], weights=True)
-    else:  # leuven
-        _stribeck_slots(scalars, *_stribeck_of(p))
-        scalars[kernel.EXPONENT] = p["exponent"]
-        scalars[kernel.DAMPING] = p["bristle_damping"]
-        elements = _element_table(p["stiffness"], p["breakaway_force"])
-    return family, scalars, np.ascontiguousarray(elements)
-
-
-def _pack_state(family, state: State, n_elements):
-    keys = _STATE_KEYS[family]
-    parts = [np.asarray(state.variables[key], dtype=np.float64).reshape(-1) for key in keys]
-    flat = np.concatenate(parts) if parts else np.zeros(0)
-    expected = {kernel.GMS: 2 * n_elements, kernel.MAXWELL_SLIP: n_elements,
-                kernel.LEUVEN: n_elements + 2}.get(family, len(keys))
-    if flat.shape[0] != expected:  # a model whose state the kernel does not know
-        raise RuntimeError(f"simulate_system cannot lay out the state of a {state.model_type} "
-                           f"model ({', '.join(state.variables)}).")
-    return flat
-
-
-def _unpack_state(family, flat, state: State):
-    offset = 0
-    for key in _STATE_KEYS[family]:
-        size = np.size(state.variables[key])
-        state.variables[key] = np.array(flat[offset:offset + size])
-        offset += size
+    A memoryless model at rest holds the applied force up to its
+    ``rest_capacity`` (its friction is set-valued there).
+    """
+    if kernel.rest_capacity is not None and velocity == 0.0:
+        return min(max(applied, -kernel.rest_capacity), kernel.rest_capacity)
+    return float(kernel.force(kernel.scalars, kernel.table, kernel.state, velocity,
+                              kernel.normal_load))
 
 
 def _finite(name, value):
@@ -271,7 +186,7 @@ def _finite(name, value):
     return float(value)
 
 
-def simulate_system(model: FrictionModel, system: System, *, initial_position=0.0,
+def simulate_system(model: FrictionModel, system: System, *, applied=None, initial_position=0.0,
                     initial_velocity=0.0, method="bdf2", progress=None) -> SystemResult:
     """Simulate a body with friction driven by a spring and/or a force (MODELS.md 8).
 
@@ -290,6 +205,12 @@ def simulate_system(model: FrictionModel, system: System, *, initial_position=0.
         A Pol-Ind model runs at its constant ``normal_load``.
     system : System
         Mass, drive and sampling (:func:`load_system` reads one from a file).
+    applied : array_like, optional
+        Applied force [N] of every step, held over the step (length: the
+        number of samples less one), in place of the system's drive spring
+        and force: the run is then the same as a :class:`polind.Body` stepped
+        with these forces.  ``res.applied[k]`` is the force applied from
+        sample ``k`` on.
     initial_position : float, default 0
         x at t = 0 [m].
     initial_velocity : float, default 0
@@ -334,37 +255,41 @@ def simulate_system(model: FrictionModel, system: System, *, initial_position=0.
                          f"Got {describe(method)} instead.")
     x0 = _finite("initial_position", initial_position)
     v0 = _finite("initial_velocity", initial_velocity)
-    family, scalars, elements = _pack_model(model)
-    final_state = model.initial_state()
-    state = _pack_state(family, final_state, elements.shape[1])
-
     t = system.times
     n = t.shape[0]
+    applied_steps = np.zeros(0)
+    if applied is not None:
+        applied_steps = as_samples("applied", applied, n - 1)
+    final_state = model.initial_state()
+    kernel = model.step_kernel(final_state)
+
     x = np.empty(n)
     v = np.empty(n)
     force = np.empty(n)
-    applied = np.empty(n)
+    applied_out = np.empty(n)
     x[0], v[0] = x0, v0
-    applied[0] = system.applied_force(t[0], x0)
-    # The model's own force at its initial state and velocity (INTERFACE.md sample 0).
-    force[0] = simulate(model, t[:2], v=np.array([v0, v0])).force[0]
-    if family == kernel.MEMORYLESS and v0 == 0.0:
-        static = scalars[kernel.STATIC]
-        force[0] = min(max(applied[0], -static), static)
+    applied_out[0] = applied_steps[0] if applied is not None else system.applied_force(t[0], x0)
+    force[0] = initial_friction(kernel, v0, applied_out[0])
 
+    drive = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0) if applied is not None else (
+        system.spring_stiffness, system.drive_velocity, system.offset, system.rate,
+        system.amplitude, system.frequency)
     carry = np.array([v0, 0.0])
+    memoryless = kernel.rest_capacity is not None
     for start in range(1, n, _CHUNK):
         stop = min(start + _CHUNK, n)
-        kernel.integrate_system(family, scalars, elements, state, t, system.mass,
-                                system.spring_stiffness, system.drive_velocity, system.offset,
-                                system.rate, system.amplitude, system.frequency, METHODS[method],
-                                x, v, force, applied, start, stop, carry)
+        dynamics_kernel.integrate_system(
+            kernel.step, kernel.tangent, memoryless,
+            kernel.rest_capacity if memoryless else 0.0, kernel.force_scale, kernel.scalars,
+            kernel.table, kernel.state, t, system.mass, *drive, applied_steps, METHODS[method],
+            kernel.normal_load, x, v, force, applied_out, start, stop, carry)
         if progress is not None:
             progress(stop - 1, n - 1)
 
-    _unpack_state(family, state, final_state)
+    model.unflatten_state(kernel.state, final_state)
     final_state.time = float(t[-1])
     final_state.position = float(x[-1])
     final_state.velocity = float(v[-1])
     final_state.force = float(force[-1])
+    applied = applied_out
     return SystemResult(t=t, x=x, v=v, force=force, applied=applied, final_state=final_state)

@@ -208,6 +208,8 @@ def simulate(model: FrictionModel, t, x=None, v=None, *, normal_load=None,
                              f"model is '{model.type}'.")
         load = as_samples("normal_load", normal_load, path.t.shape[0], positive=True)
     run_state = state.copy() if state is not None else model.initial_state(load)
+    if load is not None:
+        model.check_loads(load, run_state)
     force = _advance_in_chunks(model, path, run_state, load, progress)
     if state is not None:
         force[0] = state.force
@@ -219,32 +221,24 @@ def simulate(model: FrictionModel, t, x=None, v=None, *, normal_load=None,
                             final_state=run_state, normal_load=load)
 
 
-def _slice(path: Path, lo: int, hi: int) -> Path:
-    return Path(*(getattr(path, name)[lo:hi] for name in
-                  ("t", "x", "step", "displacement", "step_velocity", "sample_velocity")))
-
-
 def _advance_in_chunks(model, path, state, load, progress):
-    """Run the kernel over the path in chunks of CHUNK samples; return the forces.
+    """Run the model's step over the path in chunks of CHUNK samples; return the forces.
 
-    Chunks overlap by one sample (a chunk starts at the previous chunk's last
-    sample, as a continuation does), and the chunking is the same with or
-    without ``progress``.
+    The kernel runs once per chunk on the same arrays (a chunk starts at the
+    previous chunk's last sample), so the chunking never changes a result.
     """
+    kernel = model.step_kernel(state, load)
     n = path.t.shape[0]
     force = np.empty(n)
     lo = 0
     while True:
         hi = min(lo + CHUNK, n)
-        part = _slice(path, lo, hi)
-        chunk_load = None if load is None else load[lo:hi]
-        out = np.asarray(model._advance(part, state, chunk_load), dtype=np.float64)
-        if lo == 0:
-            force[:hi] = out
-        else:
-            force[lo + 1:hi] = out[1:]
+        kernel.run(path.step, path.displacement, path.step_velocity, path.sample_velocity, load,
+                   lo, hi, lo == 0, force)
         if progress is not None:
             progress(hi, n)
         if hi == n:
-            return force
+            break
         lo = hi - 1
+    model.unflatten_state(kernel.state, state)
+    return force

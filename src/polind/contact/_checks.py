@@ -2,14 +2,14 @@
 
 The contact functions are public and usable without a model file, so they
 check what they are given; the checks and their messages are those of
-:mod:`polind.models.params` (``The 'surface.height_std' parameter of
-pol-ind must be positive. Got 0.0 instead.``), named with the dotted model
-key where there is one.
+:mod:`polind.validation`, shared with :mod:`polind.models.params` (``The
+'surface.height_std' parameter of pol-ind must be positive. Got 0.0
+instead.``), named with the dotted model key where there is one.
 """
 
 from __future__ import annotations
 
-from polind.models.params import check_number
+from polind.validation import check_number
 
 __all__ = ["finite_number", "positive_number", "poisson_ratio", "element_count"]
 

@@ -55,10 +55,10 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 from scipy import special
 
 from polind.contact._checks import element_count, finite_number, positive_number
+from polind.kernels.elements import element_properties
 
 __all__ = ["ElementTable", "element_table", "element_properties", "MAX_ELEMENTS"]
 
@@ -69,49 +69,6 @@ _NODES_PER_BIN = 24
 _TOP_BIN_PANELS = 16
 # The top bin is integrated until phi has fallen by e^-75 (about 3e-33).
 _TOP_BIN_DECAY = 75.0
-
-
-@njit(cache=True)
-def element_properties(heights, counts, d, R, E_star, G_star, mu_s, out_k, out_W):
-    """Stiffness and break-away force of fixed-height elements at separation ``d``.
-
-    ``out_k[j] = n_j 8 G* sqrt(R delta_j)`` and
-    ``out_W[j] = n_j mu_s (4/3) E* sqrt(R) delta_j^(3/2)`` with
-    ``delta_j = heights[j] - d``; an element with ``delta_j <= 0`` is out of
-    contact and gets ``k = W = 0``.  Arrays and floats only, compiled with
-    numba, for use inside stepping kernels.
-
-    Parameters
-    ----------
-    heights : numpy.ndarray
-        Element heights ``h_j`` [m].
-    counts : numpy.ndarray
-        Asperities per element ``n_j`` [-].
-    d : float
-        Separation [m].
-    R : float
-        Summit radius [m].
-    E_star, G_star : float
-        Effective moduli [Pa].
-    mu_s : float
-        Static friction coefficient [-].
-    out_k : numpy.ndarray
-        Output: element stiffnesses [N/m], same length as ``heights``.
-    out_W : numpy.ndarray
-        Output: element break-away forces [N].
-    """
-    sqrt_R = math.sqrt(R)
-    stiffness_scale = 8.0 * G_star * sqrt_R
-    capacity_scale = mu_s * (4.0 / 3.0) * E_star * sqrt_R
-    for j in range(heights.size):
-        delta = heights[j] - d
-        if delta > 0.0:
-            root = math.sqrt(delta)
-            out_k[j] = counts[j] * stiffness_scale * root
-            out_W[j] = counts[j] * capacity_scale * delta * root
-        else:
-            out_k[j] = 0.0
-            out_W[j] = 0.0
 
 
 @dataclass(frozen=True, eq=False)

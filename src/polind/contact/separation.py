@@ -2,8 +2,7 @@
 
 Solves ``N(d) = N_app`` for the separation ``d`` of a
 :class:`~polind.contact.surface.StatisticalSurface` or a
-:class:`~polind.contact.surface.DirectSurface` (or anything with their
-``load_and_slope``, ``separation_range`` and ``load_range``) with a
+:class:`~polind.contact.surface.DirectSurface` with a
 safeguarded Newton iteration: the root is kept in a bracket
 ``[lo, hi]`` with ``N(lo) >= N_app >= N(hi)``; each step is a Newton step on
 ``log N(d) - log N_app`` (the load spans decades, and ``log N`` is concave
@@ -13,6 +12,10 @@ the bracket is replaced by bisection.  It stops when
 ``|N(d) - N_app| <= 1e-10 N_app``.  The start is a table look-up of
 ``F_{3/2}`` for the Gaussian with the surface's moments: 3 load evaluations
 for any load on the default surfaces; a warm start in a series needs 1–2.
+The iteration itself runs in the numba kernels of
+:mod:`polind.kernels.separation` (which model kernels call per sample), so
+this module's separations and a kernel's are the same to the bit; this
+module validates the loads and picks the first starting point.
 The one case the tolerance cannot be met is a direct surface whose highest
 summit alone carries a load so small that its interference is below about
 1e-9 of ``|d|``: neighbouring doubles of ``d`` then differ by more than
@@ -44,14 +47,16 @@ import numpy as np
 
 from polind.contact.greenwood import three_halves_inverse
 from polind.errors import InputError, describe
+from polind.kernels import separation as _kernels
+from polind.kernels.special import special_addresses
 
 __all__ = ["solve_separation", "solve_separation_series", "RELATIVE_TOLERANCE"]
 
 #: Required accuracy of the load balance, ``|N(d) - N_app| <= tol N_app``.
-RELATIVE_TOLERANCE = 1e-10
+RELATIVE_TOLERANCE = _kernels.RELATIVE_TOLERANCE
 
-# Enough for bisection alone to shrink any float bracket to adjacent floats.
-_MAX_ITERATIONS = 2200
+# The arrays a statistical surface passes for the direct surface's summits.
+_NO_SUMMITS = np.empty(0)
 
 
 def _checked_load(value, where: str = "") -> float:
@@ -115,63 +120,35 @@ def _initial_guess(surface, load: float, low: float, high: float) -> float:
     return low if math.isfinite(low) else 0.5 * (low + high)
 
 
-def _lower_bound(surface, load: float) -> float:
+def _kernel_surface(surface) -> tuple:
+    """The surface as the kernels' arguments.
+
+    ``(kind, load_scale, height_std, heights, counts, hertz, addresses)``,
+    see :mod:`polind.kernels.separation`.  The scales are the surfaces' own
+    (``_load_scale``, ``_hertz_scale``), so the kernels' loads are those of
+    ``surface.load_and_slope`` to the bit.
+    """
+    if surface.kind == "statistical":
+        return (_kernels.STATISTICAL, surface._load_scale, surface.height_std, _NO_SUMMITS, _NO_SUMMITS,
+                0.0, special_addresses())
+    return (_kernels.DIRECT, 0.0, 1.0, surface.heights, surface.counts, surface._hertz_scale(),
+            special_addresses())
+
+
+def _lower_bound(surface, load: float, arguments: tuple) -> float:
     """A separation at which the surface carries at least ``load``.
 
     Statistical surface: the end of its range (the load was checked against
     it).  Direct surface: the highest summits alone, carrying the whole
     load, need a larger interference than the real contact, where lower
     summits help, so ``N(d) >= load`` at
-    ``d = h_max - (N / (c_max (4/3) E* sqrt(R)))^(2/3)``.
+    ``d = h_max - (N / (c_max (4/3) E* sqrt(R)))^(2/3)``
+    (:func:`polind.kernels.separation.direct_lower_bound`).
     """
-    low, high = surface.separation_range
     if surface.kind != "direct":
-        return low
-    hertz = (4.0 / 3.0) * surface.E_star * math.sqrt(surface.asperity_radius)
-    return high - (load / (surface.counts[-1] * hertz)) ** (2.0 / 3.0)
-
-
-def _newton(surface, load: float, start: float, lo: float, hi: float) -> tuple[float, int, float, float]:
-    """Safeguarded Newton iteration on ``log N(d) = log load`` in ``[lo, hi]``.
-
-    Returns the separation, the number of load evaluations, and ``N`` and
-    ``dN/dd`` there (for the next warm start).
-    """
-    log_load = math.log(load)
-    d = min(max(start, lo), hi)
-    best = (d, math.inf, math.nan, math.nan)
-    for iteration in range(1, _MAX_ITERATIONS + 1):
-        value, slope = surface.load_and_slope(d)
-        error = abs(value - load)
-        if error < best[1]:
-            best = (d, error, value, slope)
-        if error <= RELATIVE_TOLERANCE * load:
-            return d, iteration, value, slope
-        # Keep the root bracketed: N decreases with d.
-        if value > load:
-            lo = d
-        else:
-            hi = d
-        if value > 0.0 and slope < 0.0:
-            candidate = d - (math.log(value) - log_load) * value / slope
-        else:
-            # No asperity touches at d (N = 0): no Newton information.
-            candidate = math.nan
-        if not lo < candidate < hi:
-            candidate = 0.5 * (lo + hi)
-        if candidate == d or not lo < candidate < hi:
-            # The bracket has shrunk to adjacent floats: d is as good as
-            # double precision allows.
-            break
-        d = candidate
-    return best[0], iteration, best[2], best[3]
-
-
-def _predicted(d: float, value: float, slope: float, load: float) -> float:
-    """Warm start: one Newton step from the last solution, with its known ``N`` and slope."""
-    if value > 0.0 and slope < 0.0:
-        return d - (math.log(value) - math.log(load)) * value / slope
-    return d
+        return surface.separation_range[0]
+    _, _, _, heights, counts, hertz, _ = arguments
+    return _kernels.direct_lower_bound(load, heights, counts, hertz)
 
 
 def solve_separation(surface, normal_load, initial=None, *, full_output=False):
@@ -212,9 +189,10 @@ def solve_separation(surface, normal_load, initial=None, *, full_output=False):
     """
     load = _checked_load(normal_load)
     _check_reachable(surface, load)
-    lo, hi = _lower_bound(surface, load), surface.separation_range[1]
+    arguments = _kernel_surface(surface)
+    lo, hi = _lower_bound(surface, load, arguments), surface.separation_range[1]
     start = _initial_guess(surface, load, lo, hi) if initial is None else _checked_initial(initial)
-    d, evaluations, _, _ = _newton(surface, load, start, lo, hi)
+    d, _, _, evaluations = _kernels.newton_separation_counted(load, start, lo, hi, *arguments)
     return (d, evaluations) if full_output else d
 
 
@@ -262,23 +240,17 @@ def solve_separation_series(surface, normal_load, initial=None, *, full_output=F
         index = int(np.flatnonzero(bad)[0])
         where = f" at index {index}"
         _check_reachable(surface, _checked_load(loads[index], where), where)
-    hi = surface.separation_range[1]
     separation = np.empty(loads.size)
     evaluations = np.zeros(loads.size, dtype=np.int64)
-    previous_load = math.nan
-    d = None
-    for index, load in enumerate(loads.tolist()):
-        if load == previous_load:
-            separation[index] = d
-            continue
-        lo = _lower_bound(surface, load)
-        if d is None:
-            start = _initial_guess(surface, load, lo, hi) if initial is None else _checked_initial(initial)
+    if loads.size:
+        arguments = _kernel_surface(surface)
+        lo, hi = surface.separation_range
+        first = float(loads[0])
+        if initial is None:
+            start = _initial_guess(surface, first, _lower_bound(surface, first, arguments), hi)
         else:
-            # The previous solution and its slope predict this one to second
-            # order in the load change: one evaluation saved per sample.
-            start = _predicted(d, value, slope, load)
-        d, evaluations[index], value, slope = _newton(surface, load, start, lo, hi)
-        separation[index] = d
-        previous_load = load
+            start = _checked_initial(initial)
+        # The kernel warm-starts every later sample from the previous one.
+        _kernels.newton_separation_series(np.ascontiguousarray(loads), start, lo, hi, *arguments,
+                                          separation, evaluations)
     return (separation, evaluations) if full_output else separation

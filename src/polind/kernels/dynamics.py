@@ -66,13 +66,14 @@ Two model families are discontinuous at ``w = 0``:
   which lets the slip law act; the following steps settle the body
   elastically.
 
-Arrays
-------
-``scalars`` holds the model parameters in the slots below, ``elements`` the
-element table (rows ``ELEMENT_*``, one column per element) and ``state`` the
-model state, flat (Maxwell-slip: the element forces; GMS: the element forces
-then the slip directions; LuGre: z; Dahl: F; Leuven: the element forces, z,
-dz/dt; memoryless: empty).
+The model
+---------
+The friction model enters only through the stepping contract of
+:mod:`polind.kernels.contract`: its ``step`` and ``tangent`` functions, its
+``scalars``, ``table`` and flat ``state``, a typical force ``force_scale``
+(the residual tolerance scales with it) and, for a memoryless model, its
+``rest_capacity`` ``g(0)`` (``memoryless`` true).  Nothing here knows which
+model it runs.
 """
 
 from __future__ import annotations
@@ -82,143 +83,36 @@ import math
 import numpy as np
 
 from polind.kernels import jit
-from polind.kernels.elements import element_sum, gms_elements, maxwell_slip_elements
-from polind.kernels.single import dahl_run, leuven_run, lugre_run
-from polind.kernels.stribeck import sign, stribeck_curve
-
-# Model families (the ``family`` argument).
-MEMORYLESS = 0     # coulomb, stribeck
-DAHL = 1
-LUGRE = 2
-MAXWELL_SLIP = 3
-GMS = 4            # gms, pol-ind
-LEUVEN = 5
+from polind.kernels.stribeck import sign
 
 # Momentum schemes (the ``method`` argument).
 BDF2 = 0
 EULER = 1
 
-# Slots of ``scalars``; a family reads the ones it needs.
-FORCE_SCALE = 0        # a typical friction force [N], scales the residual tolerance
-VISCOUS = 1            # sigma2 [N s/m]
-COULOMB = 2            # Fc [N]
-STATIC = 3             # Fs [N]
-STRIBECK_VELOCITY = 4  # vs [m/s]
-STRIBECK_EXPONENT = 5  # delta
-STRIBECK_SHAPE = 6     # polind.kernels.stribeck shape code
-STIFFNESS = 7          # sigma0 [N/m] (LuGre, Dahl)
-DAMPING = 8            # sigma1 [N s/m] (LuGre, Leuven)
-EXPONENT = 9           # alpha (Dahl), n (Leuven)
-ATTRACTION = 10        # C [N/s] (GMS)
-N_SCALARS = 11
-
-# Rows of ``elements``.
-ELEMENT_STIFFNESS = 0  # k_i [N/m]
-ELEMENT_CAPACITY = 1   # W_i [N] (Maxwell-slip, Leuven) or alpha_i (GMS)
-ELEMENT_INVERSE = 2    # 1 / alpha_i (GMS)
-N_ELEMENT_ROWS = 3
-
-RTOL = 1e-13           # residual tolerance relative to |known| + FORCE_SCALE
+RTOL = 1e-13           # residual tolerance relative to |known| + force_scale
 MAX_ITERATIONS = 200
 
 
 @jit(inline="always")
-def _elastic_stiffness(stiffness, element_force, capacity):
-    """Summed stiffness of the elements strictly inside their capacity (a tangent)."""
-    total = 0.0
-    for i in range(stiffness.shape[0]):
-        total += stiffness[i] if abs(element_force[i]) < capacity[i] else 0.0
-    return total
+def _trial(step_function, tangent_function, memoryless, scalars, table, state, scratch,
+           velocity, step, sample_slope, sample_offset, normal_load):
+    """``(F(w), tangent)`` without touching ``state`` (the update runs on ``scratch``).
 
-
-@jit(inline="always")
-def _stuck_stiffness(stiffness, slip_direction):
-    """Summed stiffness of the GMS elements in stick (a tangent)."""
-    total = 0.0
-    for i in range(stiffness.shape[0]):
-        total += stiffness[i] if slip_direction[i] == 0.0 else 0.0
-    return total
-
-
-@jit
-def advance(family, scalars, elements, state, velocity, displacement, step, sample_velocity,
-            path):
-    """Advance ``state`` in place over one step at constant ``velocity``.
-
-    Returns ``(force, tangent)``: the friction force at the end of the step,
-    its rate terms (``sigma2 v``, LuGre's ``sigma1 dz/dt``) taken at
-    ``sample_velocity`` as :func:`polind.simulate` takes them at the sample's
-    velocity, and an estimate of ``dF/dw`` for a first Newton step.  The
-    memoryless models are evaluated at the step velocity (so that ``w = 0`` is
-    their stick).  ``path`` is a (5, 2) work array through which the
-    single-state models reuse their own path kernels on a one-step path
-    (rows: step, displacement, step velocity, sample velocity, output force).
+    A memoryless model is evaluated at the step velocity, so that ``w = 0``
+    is its stick; a model with state takes its rate terms at the body's
+    velocity at the sample, ``sample_slope * w + sample_offset``.
     """
-    viscous = scalars[VISCOUS]
-    n = elements.shape[1]
-    if family == MAXWELL_SLIP:
-        element_force = state[:n]
-        stiffness = elements[ELEMENT_STIFFNESS]
-        capacity = elements[ELEMENT_CAPACITY]
-        total = maxwell_slip_elements(element_force, stiffness, capacity, displacement)
-        tangent = step * _elastic_stiffness(stiffness, element_force, capacity)
-        return total + viscous * sample_velocity, tangent + viscous
-    if family == GMS:
-        element_force = state[:n]
-        slip_direction = state[n:2 * n]
-        stiffness = elements[ELEMENT_STIFFNESS]
-        if velocity == 0.0:
-            total = element_sum(element_force)
-        else:
-            g = stribeck_curve(velocity, scalars[COULOMB], scalars[STATIC],
-                               scalars[STRIBECK_VELOCITY], scalars[STRIBECK_EXPONENT],
-                               scalars[STRIBECK_SHAPE])
-            total = gms_elements(element_force, slip_direction, stiffness,
-                                 elements[ELEMENT_CAPACITY], elements[ELEMENT_INVERSE], g,
-                                 sign(velocity), displacement, -scalars[ATTRACTION] * step / g)
-        tangent = step * _stuck_stiffness(stiffness, slip_direction)
-        return total + viscous * sample_velocity, tangent + viscous
-    if family == MEMORYLESS:
-        g = stribeck_curve(velocity, scalars[COULOMB], scalars[STATIC],
-                           scalars[STRIBECK_VELOCITY], scalars[STRIBECK_EXPONENT],
-                           scalars[STRIBECK_SHAPE])
-        return g * sign(velocity) + viscous * velocity, viscous
-    path[0, 1] = step
-    path[1, 1] = displacement
-    path[2, 1] = velocity
-    path[3, 1] = sample_velocity
-    if family == LUGRE:
-        lugre_run(path[0], path[2], path[3], scalars[STIFFNESS], scalars[DAMPING],
-                  scalars[COULOMB], scalars[STATIC], scalars[STRIBECK_VELOCITY],
-                  scalars[STRIBECK_EXPONENT], scalars[STRIBECK_SHAPE], state, path[4])
-        tangent = scalars[STIFFNESS] * step + scalars[DAMPING]
-    elif family == DAHL:
-        dahl_run(path[1], scalars[STIFFNESS], scalars[COULOMB], scalars[EXPONENT], state,
-                 path[4])
-        tangent = scalars[STIFFNESS] * step
-    else:  # LEUVEN
-        capacity = elements[ELEMENT_CAPACITY]
-        leuven_run(path[0], path[2], elements[ELEMENT_STIFFNESS], capacity,
-                   scalars[EXPONENT], scalars[DAMPING], scalars[COULOMB], scalars[STATIC],
-                   scalars[STRIBECK_VELOCITY], scalars[STRIBECK_EXPONENT],
-                   scalars[STRIBECK_SHAPE], state[:n], state[n:n + 2], path[4])
-        tangent = step * _elastic_stiffness(elements[ELEMENT_STIFFNESS], state[:n], capacity) \
-            + scalars[DAMPING]
-    return path[4, 1] + viscous * sample_velocity, tangent + viscous
+    scratch[:] = state
+    sample_velocity = velocity if memoryless else sample_slope * velocity + sample_offset
+    force = step_function(scalars, table, scratch, step, velocity * step, velocity,
+                          sample_velocity, normal_load)
+    return force, tangent_function(scalars, table, scratch, step)
 
 
 @jit(inline="always")
-def _trial(family, scalars, elements, state, scratch, velocity, step, sample_slope,
-           sample_offset, path):
-    """``(F(w), tangent)`` without touching ``state`` (the update runs on ``scratch``)."""
-    scratch[:] = state
-    return advance(family, scalars, elements, scratch, velocity, velocity * step, step,
-                   sample_slope * velocity + sample_offset, path)
-
-
-@jit
-def solve_step(family, scalars, elements, state, scratch, path, inertia, known, guess, step,
-               position, sample_slope, sample_offset):
+def solve_step(step_function, tangent_function, memoryless, rest_capacity, force_scale,
+               scalars, table, state, scratch, inertia, known, guess, step, position,
+               sample_slope, sample_offset, normal_load):
     """Solve ``inertia w + F(w) = known`` for the step velocity ``w``.
 
     The body's velocity at the end of the step, at which the friction's rate
@@ -228,22 +122,22 @@ def solve_step(family, scalars, elements, state, scratch, path, inertia, known, 
 
     ``position`` is ``x_n``.  The new position ``x_n + h w`` is rounded to a
     float, so ``w`` matters only to within ``quantum = ulp(x_n) / h``: the
-    residual is converged below ``RTOL * (|known| + FORCE_SCALE)`` or below
+    residual is converged below ``RTOL * (|known| + force_scale)`` or below
     what half a quantum of motion changes, and a body whose balancing motion
     is below half a quantum stays exactly where it is.
     """
     quantum = (np.nextafter(abs(position), np.inf) - abs(position)) / step
-    tolerance = max(RTOL * (abs(known) + scalars[FORCE_SCALE]), 0.5 * inertia * quantum)
-    if family == MEMORYLESS:
-        capacity = scalars[STATIC]  # g(0)
-        if abs(known) <= capacity:
+    tolerance = max(RTOL * (abs(known) + force_scale), 0.5 * inertia * quantum)
+    if memoryless:
+        if abs(known) <= rest_capacity:
             return 0.0, True
         direction = sign(known)
-        residual_at_zero = direction * capacity - known  # R(0+) or R(0-)
-        tangent_at_zero = scalars[VISCOUS]
+        residual_at_zero = direction * rest_capacity - known  # R(0+) or R(0-)
+        tangent_at_zero = tangent_function(scalars, table, state, step)
     else:
-        force, tangent_at_zero = _trial(family, scalars, elements, state, scratch, 0.0, step,
-                                        sample_slope, sample_offset, path)
+        force, tangent_at_zero = _trial(step_function, tangent_function, memoryless, scalars,
+                                        table, state, scratch, 0.0, step, sample_slope,
+                                        sample_offset, normal_load)
         residual_at_zero = force - known
         if abs(residual_at_zero) <= max(tolerance,
                                          0.5 * (inertia + tangent_at_zero) * quantum):
@@ -268,8 +162,9 @@ def solve_step(family, scalars, elements, state, scratch, path, inertia, known, 
     best_residual = np.inf
     jump_checked = False
     for iteration in range(MAX_ITERATIONS):
-        force, tangent = _trial(family, scalars, elements, state, scratch, velocity, step,
-                                sample_slope, sample_offset, path)
+        force, tangent = _trial(step_function, tangent_function, memoryless, scalars, table,
+                                state, scratch, velocity, step, sample_slope, sample_offset,
+                                normal_load)
         residual = inertia * velocity + force - known
         if abs(residual) < best_residual:
             best_velocity, best_residual = velocity, abs(residual)
@@ -313,13 +208,15 @@ def solve_step(family, scalars, elements, state, scratch, path, inertia, known, 
                 end_velocity = high if direction > 0.0 else low
                 end_residual = high_residual if direction > 0.0 else low_residual
                 continuous_gap = 2.0 * (inertia + tangent_at_zero) * abs(least) + 2.0 * tolerance
-                if family == MEMORYLESS or abs(end_residual - residual_at_zero) > continuous_gap \
+                if memoryless or abs(end_residual - residual_at_zero) > continuous_gap \
                         or abs(end_residual) < abs(residual_at_zero):
                     return end_velocity, False
                 return 0.0, False
         last_velocity, last_residual = velocity, residual
         velocity = candidate
     return best_velocity, False
+
+
 
 
 @jit(inline="always")
@@ -330,10 +227,63 @@ def applied_force(time, position, drive_stiffness, drive_velocity, offset, rate,
             + amplitude * math.sin(angular_frequency * time))
 
 
+@jit(fastmath=False)
+def rounded_motion(position, step, velocity):
+    """``x_{n+1} = x_n + h w`` rounded to a float, and the increment it really is.
+
+    Without fast-math: reassociation would simplify ``(x + h w) - x`` to
+    ``h w``, and the model would be advanced by a step other than the one the
+    stored positions show.
+    """
+    new_position = position + step * velocity
+    return new_position, new_position - position
+
+
+@jit(inline="always")
+def body_step(step_function, tangent_function, memoryless, rest_capacity, force_scale,
+              scalars, table, state, scratch, method, mass, drive_stiffness, step, external,
+              position, velocity, previous_velocity, previous_step_velocity, history,
+              normal_load):
+    """One implicit step of the body (the scheme of the module notes).
+
+    ``external`` is the force on the body over the step other than friction,
+    with the drive spring taken at the previous position (its stiffness
+    ``drive_stiffness`` enters the implicit equation).  ``velocity`` and
+    ``previous_velocity`` are ``v_n`` and ``v_{n-1}``; ``history`` whether a
+    BDF2 step may use them.  ``state`` is committed in place.
+
+    Returns ``(x, v, F, step_velocity, history)`` at the end of the step.
+    """
+    if method == BDF2 and history:
+        # v_{n+1} = (3 w - w_n) / 2 and m (3 v_{n+1} - 4 v_n + v_{n-1}) / 2h = ...
+        sample_slope, sample_offset = 1.5, -0.5 * previous_step_velocity
+        inertia = 2.25 * mass / step + drive_stiffness * step
+        known = mass / step * (0.75 * previous_step_velocity + 2.0 * velocity
+                               - 0.5 * previous_velocity) + external
+    else:
+        sample_slope, sample_offset = 1.0, 0.0
+        inertia = mass / step + drive_stiffness * step
+        known = mass / step * velocity + external
+    step_velocity, stuck = solve_step(step_function, tangent_function, memoryless, rest_capacity,
+                                      force_scale, scalars, table, state, scratch, inertia,
+                                      known, previous_step_velocity, step, position,
+                                      sample_slope, sample_offset, normal_load)
+    if stuck:
+        return position, 0.0, known, 0.0, False
+    new_position, displacement = rounded_motion(position, step, step_velocity)
+    step_velocity = displacement / step
+    new_velocity = sample_slope * step_velocity + sample_offset
+    sample_velocity = step_velocity if memoryless else new_velocity
+    friction = step_function(scalars, table, state, step, displacement, step_velocity,
+                             sample_velocity, normal_load)
+    return new_position, new_velocity, friction, step_velocity, True
+
+
 @jit
-def integrate_system(family, scalars, elements, state, t, mass, drive_stiffness,
-                     drive_velocity, offset, rate, amplitude, frequency, method,
-                     x, v, force, applied, start, stop, carry):
+def integrate_system(step_function, tangent_function, memoryless, rest_capacity, force_scale,
+                     scalars, table, state, t, mass, drive_stiffness, drive_velocity, offset,
+                     rate, amplitude, frequency, applied_steps, method, normal_load, x, v,
+                     force, applied, start, stop, carry):
     """Integrate the 1-DOF system over the samples ``t``; fill the output arrays.
 
     On entry ``x[0]``, ``v[0]`` and ``force[0]`` hold the initial position,
@@ -344,6 +294,11 @@ def integrate_system(family, scalars, elements, state, t, mass, drive_stiffness,
     terms of the force are taken at the body's velocity ``v[k]`` (which is
     the step velocity under backward Euler).
 
+    With a non-empty ``applied_steps`` (one force per step, held over it) the
+    body is driven by those forces instead of the drive parameters, and
+    ``applied[k]`` is the force applied from sample ``k`` on (the last sample
+    repeats the last step's).
+
     The run covers the steps ending at samples ``start .. stop - 1``
     (``start >= 1``), so a long run can be cut into chunks; ``carry`` holds
     what a step needs from the one before it besides the samples: the last
@@ -352,43 +307,47 @@ def integrate_system(family, scalars, elements, state, t, mass, drive_stiffness,
     """
     angular_frequency = 2.0 * math.pi * frequency
     scratch = np.empty_like(state)
-    path = np.zeros((5, 2))
+    driven = applied_steps.shape[0] > 0
     previous_step_velocity = carry[0]
     history = carry[1] != 0.0   # a BDF2 step needs one regular step before it
     for k in range(start, stop):
         step = t[k] - t[k - 1]
-        external = applied_force(t[k], x[k - 1], drive_stiffness, drive_velocity, offset, rate,
-                                 amplitude, angular_frequency)
-        if method == BDF2 and history:
-            # v_{n+1} = (3 w - w_n) / 2 and m (3 v_{n+1} - 4 v_n + v_{n-1}) / 2h = ...
-            sample_slope, sample_offset = 1.5, -0.5 * previous_step_velocity
-            inertia = 2.25 * mass / step + drive_stiffness * step
-            known = mass / step * (0.75 * previous_step_velocity + 2.0 * v[k - 1]
-                                   - 0.5 * v[k - 2]) + external
+        if driven:
+            external = applied_steps[k - 1]
         else:
-            sample_slope, sample_offset = 1.0, 0.0
-            inertia = mass / step + drive_stiffness * step
-            known = mass / step * v[k - 1] + external
-        velocity, stuck = solve_step(family, scalars, elements, state, scratch, path, inertia,
-                                     known, previous_step_velocity, step, x[k - 1],
-                                     sample_slope, sample_offset)
-        if stuck:
-            x[k] = x[k - 1]
-            v[k] = 0.0
-            force[k] = known
-            previous_step_velocity = 0.0
-            history = False
+            external = applied_force(t[k], x[k - 1], drive_stiffness, drive_velocity, offset,
+                                     rate, amplitude, angular_frequency)
+        previous_velocity = v[k - 2] if k >= 2 else v[k - 1]
+        x[k], v[k], force[k], previous_step_velocity, history = body_step(
+            step_function, tangent_function, memoryless, rest_capacity, force_scale, scalars,
+            table, state, scratch, method, mass, drive_stiffness, step, external, x[k - 1],
+            v[k - 1], previous_velocity, previous_step_velocity, history, normal_load)
+        if driven:
+            applied[k] = applied_steps[k] if k < applied_steps.shape[0] else applied_steps[k - 1]
         else:
-            x[k] = x[k - 1] + step * velocity
-            displacement = x[k] - x[k - 1]
-            step_velocity = displacement / step
-            v[k] = sample_slope * step_velocity + sample_offset
-            friction, _ = advance(family, scalars, elements, state, step_velocity,
-                                  displacement, step, v[k], path)
-            force[k] = friction
-            previous_step_velocity = step_velocity
-            history = True
-        applied[k] = applied_force(t[k], x[k], drive_stiffness, drive_velocity, offset, rate,
-                                   amplitude, angular_frequency)
+            applied[k] = applied_force(t[k], x[k], drive_stiffness, drive_velocity, offset,
+                                       rate, amplitude, angular_frequency)
     carry[0] = previous_step_velocity
     carry[1] = 1.0 if history else 0.0
+
+
+@jit
+def advance_body(step_function, tangent_function, memoryless, rest_capacity, force_scale,
+                 scalars, table, state, scratch, method, mass, step, external, body,
+                 normal_load):
+    """One step of :class:`polind.Body`: :func:`body_step` with its state in ``body``.
+
+    ``body`` is ``[x_n, v_n, v_{n-1}, w_n, history, friction]`` and is
+    updated in place.  The same arithmetic as :func:`integrate_system` driven
+    by ``applied_steps``, so a loop of these equals one run of it.
+    """
+    x, v, friction, step_velocity, history = body_step(
+        step_function, tangent_function, memoryless, rest_capacity, force_scale, scalars, table,
+        state, scratch, method, mass, 0.0, step, external, body[0], body[1], body[2], body[3],
+        body[4] != 0.0, normal_load)
+    body[2] = body[1]
+    body[0] = x
+    body[1] = v
+    body[3] = step_velocity
+    body[4] = 1.0 if history else 0.0
+    body[5] = friction

@@ -26,12 +26,59 @@ them; the exponential is :func:`polind.kernels.fastexp.decay_exp`.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-from polind.contact.elements import element_properties
 from polind.kernels import jit
+from polind.kernels.contract import run_steps
 from polind.kernels.fastexp import decay_exp
 from polind.kernels.stribeck import sign, stribeck_curve
+
+
+# Called from Python (ElementTable) as well as from the kernels below, so not
+# inlined; without fastmath, as it was compiled in polind.contact (bit for bit).
+@jit(fastmath=False)
+def element_properties(heights, counts, d, R, E_star, G_star, mu_s, out_k, out_W):
+    """Stiffness and break-away force of fixed-height elements at separation ``d``.
+
+    ``out_k[j] = n_j 8 G* sqrt(R delta_j)`` and
+    ``out_W[j] = n_j mu_s (4/3) E* sqrt(R) delta_j^(3/2)`` with
+    ``delta_j = heights[j] - d``; an element with ``delta_j <= 0`` is out of
+    contact and gets ``k = W = 0``.  Arrays and floats only, compiled with
+    numba, for use inside stepping kernels.
+
+    Parameters
+    ----------
+    heights : numpy.ndarray
+        Element heights ``h_j`` [m].
+    counts : numpy.ndarray
+        Asperities per element ``n_j`` [-].
+    d : float
+        Separation [m].
+    R : float
+        Summit radius [m].
+    E_star, G_star : float
+        Effective moduli [Pa].
+    mu_s : float
+        Static friction coefficient [-].
+    out_k : numpy.ndarray
+        Output: element stiffnesses [N/m], same length as ``heights``.
+    out_W : numpy.ndarray
+        Output: element break-away forces [N].
+    """
+    sqrt_R = math.sqrt(R)
+    stiffness_scale = 8.0 * G_star * sqrt_R
+    capacity_scale = mu_s * (4.0 / 3.0) * E_star * sqrt_R
+    for j in range(heights.size):
+        delta = heights[j] - d
+        if delta > 0.0:
+            root = math.sqrt(delta)
+            out_k[j] = counts[j] * stiffness_scale * root
+            out_W[j] = counts[j] * capacity_scale * delta * root
+        else:
+            out_k[j] = 0.0
+            out_W[j] = 0.0
 
 
 @jit(inline="always")
@@ -185,3 +232,117 @@ def pol_ind_varying_run(step, displacement, step_velocity, separation, normal_lo
         out_force[k] = gms_elements(element_force, slip_direction, stiffness, weight,
                                     inverse_weight, g, sign(velocity), displacement[k],
                                     -attraction * step[k] / g)
+
+
+# --- the stepping contract (polind.kernels.contract) of the element models ---------------
+#
+# Maxwell-slip: scalars [sigma2], table rows [k_i, W_i], state [F_i].
+# GMS:          scalars [sigma2, C, Fc, Fs, vs, delta, shape],
+#               table rows [k_i, alpha_i, 1/alpha_i], state [F_i, slip direction_i].
+
+VISCOUS = 0            # sigma2 [N s/m], every element model
+ATTRACTION = 1         # C [N/s] (GMS)
+COULOMB = 2            # Fc [N] (GMS)
+STATIC = 3             # Fs [N] (GMS)
+STRIBECK_VELOCITY = 4  # vs [m/s] (GMS)
+STRIBECK_EXPONENT = 5  # delta (GMS)
+STRIBECK_SHAPE = 6     # shape code (GMS)
+N_GMS_SCALARS = 7
+
+ELEMENT_STIFFNESS = 0  # k_i [N/m]
+ELEMENT_CAPACITY = 1   # W_i [N] (Maxwell-slip) or alpha_i (GMS)
+ELEMENT_INVERSE = 2    # 1 / alpha_i (GMS)
+
+
+@jit(inline="always")
+def elastic_stiffness(stiffness, element_force, capacity):
+    """Summed stiffness of the elements strictly inside their capacity (a tangent)."""
+    total = 0.0
+    for i in range(stiffness.shape[0]):
+        total += stiffness[i] if abs(element_force[i]) < capacity[i] else 0.0
+    return total
+
+
+@jit(inline="always")
+def stuck_stiffness(stiffness, slip_direction):
+    """Summed stiffness of the GMS elements in stick (a tangent)."""
+    total = 0.0
+    for i in range(stiffness.shape[0]):
+        total += stiffness[i] if slip_direction[i] == 0.0 else 0.0
+    return total
+
+
+@jit(inline="always")
+def maxwell_slip_step(scalars, table, state, step, displacement, step_velocity,
+                      sample_velocity, normal_load):
+    """MODELS.md 4: ``F_i <- clip(F_i + k_i dx, -W_i, W_i)``; ``F = sum F_i + sigma2 v``."""
+    total = maxwell_slip_elements(state, table[ELEMENT_STIFFNESS], table[ELEMENT_CAPACITY],
+                                  displacement)
+    return total + scalars[VISCOUS] * sample_velocity
+
+
+@jit(inline="always")
+def maxwell_slip_force(scalars, table, state, sample_velocity, normal_load):
+    return element_sum(state) + scalars[VISCOUS] * sample_velocity
+
+
+@jit(inline="always")
+def maxwell_slip_tangent(scalars, table, state, step):
+    return step * elastic_stiffness(table[ELEMENT_STIFFNESS], state,
+                                    table[ELEMENT_CAPACITY]) + scalars[VISCOUS]
+
+
+@jit
+def maxwell_slip_path(scalars, table, state, step, displacement, step_velocity,
+                      sample_velocity, loads, constant_load, lo, hi, first, out_force):
+    """:func:`polind.kernels.contract.run_steps` specialised to Maxwell-slip."""
+    run_steps(maxwell_slip_step, maxwell_slip_force, scalars, table, state, step, displacement,
+              step_velocity, sample_velocity, loads, constant_load, lo, hi, first, out_force)
+
+
+@jit(inline="always")
+def gms_step_scaled(scalars, table, element_force, slip_direction, step, displacement,
+                    step_velocity, sample_velocity, coulomb_force, static_force):
+    """One GMS step (MODELS.md 5) with the given Stribeck levels; the element-model core.
+
+    A step with zero velocity changes nothing (``sgn(0) = 0``: no stick
+    growth, no slip relaxation) and keeps every element's mode.
+    """
+    if step_velocity == 0.0:
+        total = element_sum(element_force)
+    else:
+        g = stribeck_curve(step_velocity, coulomb_force, static_force,
+                           scalars[STRIBECK_VELOCITY], scalars[STRIBECK_EXPONENT],
+                           scalars[STRIBECK_SHAPE])
+        total = gms_elements(element_force, slip_direction, table[ELEMENT_STIFFNESS],
+                             table[ELEMENT_CAPACITY], table[ELEMENT_INVERSE], g,
+                             sign(step_velocity), displacement,
+                             -scalars[ATTRACTION] * step / g)
+    return total + scalars[VISCOUS] * sample_velocity
+
+
+@jit(inline="always")
+def gms_step(scalars, table, state, step, displacement, step_velocity, sample_velocity,
+             normal_load):
+    n = table.shape[1]
+    return gms_step_scaled(scalars, table, state[:n], state[n:2 * n], step, displacement,
+                           step_velocity, sample_velocity, scalars[COULOMB], scalars[STATIC])
+
+
+@jit(inline="always")
+def gms_force(scalars, table, state, sample_velocity, normal_load):
+    return element_sum(state[:table.shape[1]]) + scalars[VISCOUS] * sample_velocity
+
+
+@jit(inline="always")
+def gms_tangent(scalars, table, state, step):
+    n = table.shape[1]
+    return step * stuck_stiffness(table[ELEMENT_STIFFNESS], state[n:2 * n]) + scalars[VISCOUS]
+
+
+@jit
+def gms_path(scalars, table, state, step, displacement, step_velocity, sample_velocity,
+             loads, constant_load, lo, hi, first, out_force):
+    """:func:`polind.kernels.contract.run_steps` specialised to GMS."""
+    run_steps(gms_step, gms_force, scalars, table, state, step, displacement, step_velocity,
+              sample_velocity, loads, constant_load, lo, hi, first, out_force)

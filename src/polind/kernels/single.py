@@ -13,7 +13,9 @@ import math
 import numpy as np
 
 from polind.kernels import jit
-from polind.kernels.elements import maxwell_slip_elements, maxwell_slip_trial, element_sum
+from polind.kernels.contract import run_steps
+from polind.kernels.elements import (element_sum, elastic_stiffness, maxwell_slip_elements,
+                                     maxwell_slip_trial)
 from polind.kernels.stribeck import sign, stribeck_curve
 
 
@@ -41,49 +43,111 @@ def dahl_deficit(deficit, distance, rate, exponent):
     return magnitude if deficit > 0.0 else -magnitude
 
 
-@jit
-def dahl_run(displacement, stiffness, coulomb_force, exponent, state, out_force):
-    """Dahl over a path.  ``state[0]`` is the friction force F (the model's only state)."""
+# --- Dahl: scalars [sigma0, Fc, alpha], state [F] ----------------------------------------
+
+DAHL_STIFFNESS = 0
+DAHL_COULOMB = 1
+DAHL_EXPONENT = 2
+
+
+@jit(inline="always")
+def dahl_step(scalars, table, state, step, displacement, step_velocity, sample_velocity,
+              normal_load):
+    """Dahl over one increment, exactly (the equation depends on the travelled distance only)."""
     force = state[0]
-    rate = stiffness / coulomb_force
-    out_force[0] = force
-    for k in range(1, displacement.shape[0]):
-        dx = displacement[k]
-        direction = sign(dx)
-        if direction != 0.0:
-            deficit = 1.0 - force * direction / coulomb_force
-            deficit = dahl_deficit(deficit, abs(dx), rate, exponent)
-            force = direction * coulomb_force * (1.0 - deficit)
-        out_force[k] = force
-    state[0] = force
+    direction = sign(displacement)
+    if direction != 0.0:
+        coulomb_force = scalars[DAHL_COULOMB]
+        deficit = 1.0 - force * direction / coulomb_force
+        deficit = dahl_deficit(deficit, abs(displacement),
+                               scalars[DAHL_STIFFNESS] / coulomb_force, scalars[DAHL_EXPONENT])
+        force = direction * coulomb_force * (1.0 - deficit)
+        state[0] = force
+    return force
+
+
+@jit(inline="always")
+def dahl_force(scalars, table, state, sample_velocity, normal_load):
+    return state[0]
+
+
+@jit(inline="always")
+def dahl_tangent(scalars, table, state, step):
+    return scalars[DAHL_STIFFNESS] * step
 
 
 @jit
-def lugre_run(step, step_velocity, sample_velocity, bristle_stiffness, bristle_damping,
-              coulomb_force, static_force, stribeck_velocity, stribeck_exponent, shape,
-              state, out_force):
-    """LuGre over a path with the exact exponential update of MODELS.md 3.
+def dahl_path(scalars, table, state, step, displacement, step_velocity, sample_velocity,
+              loads, constant_load, lo, hi, first, out_force):
+    """:func:`polind.kernels.contract.run_steps` specialised to Dahl."""
+    run_steps(dahl_step, dahl_force, scalars, table, state, step, displacement, step_velocity,
+              sample_velocity, loads, constant_load, lo, hi, first, out_force)
 
-    ``state[0]`` is the bristle deflection z [m].  The output force at sample
-    k is ``sigma0 z + sigma1 dz/dt`` with ``dz/dt = v - sigma0 |v| z / g(v)``
-    evaluated at the sample's state and velocity (the viscous term
-    ``sigma2 v`` is added by the caller).
+
+# --- LuGre: scalars below, state [z] ------------------------------------------------------
+
+LUGRE_VISCOUS = 0      # sigma2 [N s/m]
+LUGRE_STIFFNESS = 1    # sigma0 [N/m]
+LUGRE_DAMPING = 2      # sigma1 [N s/m]
+LUGRE_COULOMB = 3
+LUGRE_STATIC = 4
+LUGRE_STRIBECK_VELOCITY = 5
+LUGRE_STRIBECK_EXPONENT = 6
+LUGRE_STRIBECK_SHAPE = 7
+N_LUGRE_SCALARS = 8
+
+
+@jit(inline="always")
+def _lugre_curve(scalars, velocity):
+    return stribeck_curve(velocity, scalars[LUGRE_COULOMB], scalars[LUGRE_STATIC],
+                          scalars[LUGRE_STRIBECK_VELOCITY], scalars[LUGRE_STRIBECK_EXPONENT],
+                          scalars[LUGRE_STRIBECK_SHAPE])
+
+
+@jit(inline="always")
+def _lugre_output(scalars, z, sample_velocity, g):
+    """``sigma0 z + sigma1 dz/dt + sigma2 v`` with ``dz/dt`` of the state equation at the sample."""
+    stiffness = scalars[LUGRE_STIFFNESS]
+    rate = sample_velocity - stiffness * abs(sample_velocity) * z / g
+    return stiffness * z + scalars[LUGRE_DAMPING] * rate + scalars[LUGRE_VISCOUS] * sample_velocity
+
+
+@jit(inline="always")
+def lugre_force(scalars, table, state, sample_velocity, normal_load):
+    return _lugre_output(scalars, state[0], sample_velocity, _lugre_curve(scalars, sample_velocity))
+
+
+@jit(inline="always")
+def lugre_step(scalars, table, state, step, displacement, step_velocity, sample_velocity,
+               normal_load):
+    """LuGre over one step with the exact exponential update of MODELS.md 3.
+
+    The output's ``dz/dt`` is the state equation at the sample (the state
+    after the step, the sample's velocity).
     """
     z = state[0]
-    for k in range(step.shape[0]):
-        if k > 0:
-            velocity = step_velocity[k]
-            if velocity != 0.0:
-                g = stribeck_curve(velocity, coulomb_force, static_force, stribeck_velocity,
-                                   stribeck_exponent, shape)
-                steady = sign(velocity) * g / bristle_stiffness
-                z = steady + (z - steady) * math.exp(-bristle_stiffness * abs(velocity) * step[k] / g)
-        v = sample_velocity[k]
-        g = stribeck_curve(v, coulomb_force, static_force, stribeck_velocity,
-                           stribeck_exponent, shape)
-        rate = v - bristle_stiffness * abs(v) * z / g
-        out_force[k] = bristle_stiffness * z + bristle_damping * rate
-    state[0] = z
+    g = _lugre_curve(scalars, step_velocity)
+    if step_velocity != 0.0:
+        stiffness = scalars[LUGRE_STIFFNESS]
+        steady = sign(step_velocity) * g / stiffness
+        z = steady + (z - steady) * math.exp(-stiffness * abs(step_velocity) * step / g)
+        state[0] = z
+    if sample_velocity != step_velocity:   # with x given they are equal: one curve, not two
+        g = _lugre_curve(scalars, sample_velocity)
+    return _lugre_output(scalars, z, sample_velocity, g)
+
+
+@jit(inline="always")
+def lugre_tangent(scalars, table, state, step):
+    return scalars[LUGRE_STIFFNESS] * step + scalars[LUGRE_DAMPING] + scalars[LUGRE_VISCOUS]
+
+
+@jit
+def lugre_path(scalars, table, state, step, displacement, step_velocity, sample_velocity,
+               loads, constant_load, lo, hi, first, out_force):
+    """:func:`polind.kernels.contract.run_steps` specialised to LuGre."""
+    run_steps(lugre_step, lugre_force, scalars, table, state, step, displacement, step_velocity,
+              sample_velocity, loads, constant_load, lo, hi, first, out_force)
 
 
 @jit(inline="always")
@@ -105,10 +169,23 @@ def _leuven_residual(increment, element_force, stiffness, breakaway_force,
     return residual, slope
 
 
-@jit
-def leuven_run(step, step_velocity, stiffness, breakaway_force, exponent,
-               bristle_damping, coulomb_force, static_force, stribeck_velocity,
-               stribeck_exponent, shape, element_force, state, out_force):
+# --- Leuven: scalars below, table rows [k_i, W_i], state [F_i, z, dz/dt] ----------------
+
+LEUVEN_VISCOUS = 0
+LEUVEN_EXPONENT = 1    # n
+LEUVEN_DAMPING = 2     # sigma1
+LEUVEN_COULOMB = 3
+LEUVEN_STATIC = 4
+LEUVEN_STRIBECK_VELOCITY = 5
+LEUVEN_STRIBECK_EXPONENT = 6
+LEUVEN_STRIBECK_SHAPE = 7
+LEUVEN_CAPACITY = 8    # sum W_i [N]
+N_LEUVEN_SCALARS = 9
+
+
+@jit(inline="always")
+def leuven_step(scalars, table, state, step, displacement, step_velocity, sample_velocity,
+                normal_load):
     """Modified Leuven model (MODELS.md 6) with an implicit (backward Euler) step.
 
     The state equation ``dz/dt = v (1 - sgn(Fh/s)|Fh/s|^n)`` is stiff when
@@ -116,51 +193,68 @@ def leuven_run(step, step_velocity, stiffness, breakaway_force, exponent,
     equation for the increment ``dz`` by a safeguarded Newton iteration
     (bracket, Newton step, bisection fallback): unconditionally stable and
     first-order accurate in the step.  ``Fh`` is the Maxwell-slip structure
-    driven by ``z``, advanced exactly for the increment.  ``state[0]`` is z,
-    ``state[1]`` the last output's dz/dt.  The output force is
-    ``Fh + sigma1 dz/dt`` with the step's dz/dt (the viscous term is added by
-    the caller).
+    driven by ``z``, advanced exactly for the increment.  The output force is
+    ``Fh + sigma1 dz/dt + sigma2 v`` with the step's dz/dt.
     """
-    z = state[0]
-    rate = state[1]
-    hysteresis = element_sum(element_force)
-    out_force[0] = hysteresis + bristle_damping * rate
-    total_capacity = 0.0
-    for i in range(breakaway_force.shape[0]):
-        total_capacity += breakaway_force[i]
-    for k in range(1, step.shape[0]):
-        velocity = step_velocity[k]
-        h = step[k]
-        increment = 0.0
-        if velocity != 0.0:
-            g = stribeck_curve(velocity, coulomb_force, static_force, stribeck_velocity,
-                               stribeck_exponent, shape)
-            target = sign(velocity) * g
-            travel = velocity * h
-            # |Fh| <= sum W bounds |r|, hence the root lies within this bracket.
-            reach = abs(travel) * (1.0 + (total_capacity / g) ** exponent) * 1.000001 + 1e-300
-            low = -reach
-            high = reach
-            increment = 0.0
-            tolerance = 2e-15 * reach
-            for _ in range(200):
-                residual, slope = _leuven_residual(increment, element_force, stiffness,
-                                                   breakaway_force, travel, target, exponent)
-                if abs(residual) <= tolerance:
-                    break
-                if residual > 0.0:
-                    high = increment
-                else:
-                    low = increment
-                if high - low <= tolerance:
-                    break
-                candidate = increment - residual / slope
-                if not (low < candidate < high) or not (slope > 0.0):
-                    candidate = 0.5 * (low + high)
-                increment = candidate
-            hysteresis = maxwell_slip_elements(element_force, stiffness, breakaway_force, increment)
-        rate = increment / h
-        z += increment
-        out_force[k] = hysteresis + bristle_damping * rate
-    state[0] = z
-    state[1] = rate
+    n = table.shape[1]
+    element_force = state[:n]
+    stiffness = table[0]
+    breakaway_force = table[1]
+    exponent = scalars[LEUVEN_EXPONENT]
+    increment = 0.0
+    if step_velocity != 0.0:
+        g = stribeck_curve(step_velocity, scalars[LEUVEN_COULOMB], scalars[LEUVEN_STATIC],
+                           scalars[LEUVEN_STRIBECK_VELOCITY], scalars[LEUVEN_STRIBECK_EXPONENT],
+                           scalars[LEUVEN_STRIBECK_SHAPE])
+        target = sign(step_velocity) * g
+        travel = step_velocity * step
+        # |Fh| <= sum W bounds |r|, hence the root lies within this bracket.
+        reach = abs(travel) * (1.0 + (scalars[LEUVEN_CAPACITY] / g) ** exponent) * 1.000001 \
+            + 1e-300
+        low = -reach
+        high = reach
+        tolerance = 2e-15 * reach
+        for _ in range(200):
+            residual, slope = _leuven_residual(increment, element_force, stiffness,
+                                               breakaway_force, travel, target, exponent)
+            if abs(residual) <= tolerance:
+                break
+            if residual > 0.0:
+                high = increment
+            else:
+                low = increment
+            if high - low <= tolerance:
+                break
+            candidate = increment - residual / slope
+            if not (low < candidate < high) or not (slope > 0.0):
+                candidate = 0.5 * (low + high)
+            increment = candidate
+        hysteresis = maxwell_slip_elements(element_force, stiffness, breakaway_force, increment)
+    else:
+        hysteresis = element_sum(element_force)
+    rate = increment / step
+    state[n] += increment
+    state[n + 1] = rate
+    return hysteresis + scalars[LEUVEN_DAMPING] * rate + scalars[LEUVEN_VISCOUS] * sample_velocity
+
+
+@jit(inline="always")
+def leuven_force(scalars, table, state, sample_velocity, normal_load):
+    n = table.shape[1]
+    return (element_sum(state[:n]) + scalars[LEUVEN_DAMPING] * state[n + 1]
+            + scalars[LEUVEN_VISCOUS] * sample_velocity)
+
+
+@jit(inline="always")
+def leuven_tangent(scalars, table, state, step):
+    n = table.shape[1]
+    return (step * elastic_stiffness(table[0], state[:n], table[1]) + scalars[LEUVEN_DAMPING]
+            + scalars[LEUVEN_VISCOUS])
+
+
+@jit
+def leuven_path(scalars, table, state, step, displacement, step_velocity, sample_velocity,
+                loads, constant_load, lo, hi, first, out_force):
+    """:func:`polind.kernels.contract.run_steps` specialised to Leuven."""
+    run_steps(leuven_step, leuven_force, scalars, table, state, step, displacement,
+              step_velocity, sample_velocity, loads, constant_load, lo, hi, first, out_force)

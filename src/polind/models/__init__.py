@@ -1,6 +1,7 @@
 """One module per friction model; importing this package registers them all."""
 
-from polind.models.base import MODEL_TYPES, FrictionModel, Path, State
+from polind.models.base import (MODEL_TYPES, FrictionModel, Path, State, StepFunctions,
+                                StepKernel, register_model)
 from polind.models.static import Coulomb, Stribeck
 from polind.models.dahl import Dahl
 from polind.models.lugre import LuGre
@@ -9,7 +10,8 @@ from polind.models.gms import GMS
 from polind.models.leuven import Leuven
 from polind.models.pol_ind import PolInd
 
-__all__ = ["MODEL_TYPES", "FrictionModel", "Path", "State", "Coulomb", "Stribeck", "Dahl",
+__all__ = ["MODEL_TYPES", "FrictionModel", "Path", "State", "StepFunctions", "StepKernel",
+           "register_model", "Coulomb", "Stribeck", "Dahl",
            "LuGre", "MaxwellSlip", "GMS", "Leuven", "PolInd"]
 
 from polind.errors import InputError as _InputError

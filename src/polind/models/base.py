@@ -29,6 +29,37 @@ def register(cls):
     return cls
 
 
+def register_model(cls, *, replace=False):
+    """Make a :class:`FrictionModel` subclass usable everywhere under its ``type``.
+
+    After ``polind.register_model(MyModel)`` the type can be named in model
+    files (``type = "my-model"``) and runs in :func:`polind.simulate`,
+    :class:`polind.Stepper`, :class:`polind.Body`,
+    :func:`polind.simulate_system` and :func:`polind.identify`, with no
+    change to polind's own files.  The class must subclass
+    :class:`FrictionModel`, name a new ``type`` (a non-empty string; pass
+    ``replace=True`` to redefine one of your own) and supply
+    ``step_functions`` and ``kernel_arrays``.  Returns the class, so it can
+    be used as a decorator.
+    """
+    if not (isinstance(cls, type) and issubclass(cls, FrictionModel)):
+        raise InputError(f"register_model needs a subclass of polind.FrictionModel. "
+                         f"Got {describe(cls)} instead.")
+    name = getattr(cls, "type", "")
+    if not isinstance(name, str) or not name:
+        raise InputError(f"The model class {cls.__name__} must set 'type' to a non-empty "
+                         f"string (its name in model files). Got {describe(name)} instead.")
+    for method in ("step_functions", "kernel_arrays"):
+        if getattr(cls, method) is getattr(FrictionModel, method):
+            raise InputError(f"The model class {cls.__name__} must define {method}() "
+                             f"(see polind.FrictionModel).")
+    if name in MODEL_TYPES and MODEL_TYPES[name] is not cls and not replace:
+        raise InputError(f"The model type '{name}' is already registered (by "
+                         f"{MODEL_TYPES[name].__name__}); choose another name.")
+    MODEL_TYPES[name] = cls
+    return cls
+
+
 @dataclass(frozen=True)
 class Path:
     """A prescribed motion cut into steps at constant velocity (INTERFACE.md).
@@ -118,17 +149,108 @@ class State:
         return cls.from_dict(json.loads(text))
 
 
-class FrictionModel:
-    """Base class: a validated parameter set and a kernel.
+@dataclass(frozen=True)
+class StepFunctions:
+    """A model's numba functions of the stepping contract (:mod:`polind.kernels.contract`).
 
-    Subclasses declare ``type``, ``parameters`` (a tuple of
-    :class:`~polind.models.params.Param`), optionally ``_check`` for rules
-    across parameters, and implement ``initial_variables`` and ``_advance``.
+    ``step``, ``force`` and ``tangent`` are ``@njit`` functions with the
+    signatures documented there; ``path`` optionally runs a whole path with
+    ``step`` inlined (same signature as ``polind.kernels.contract.run_steps_any``
+    without its first two arguments).  Without ``path`` the generic
+    ``run_steps_any`` runs the model.
+    """
+
+    step: object
+    force: object
+    tangent: object
+    path: object = None
+
+
+@dataclass
+class StepKernel:
+    """A model ready to be stepped by compiled code: its functions and flat arrays.
+
+    The three arrays are what the model's numba functions take: ``scalars``
+    (float64, 1-D), ``table`` (float64, 2-D, one column per element) and
+    ``state`` (float64, 1-D, advanced in place).  From a user's own
+    ``@njit`` loop::
+
+        kernel = model.step_kernel()
+        force = kernel.step(kernel.scalars, kernel.table, kernel.state,
+                            h, dx, dx / h, dx / h, kernel.normal_load)
+
+    Attributes
+    ----------
+    step, force, tangent : numba functions
+        See :mod:`polind.kernels.contract`.
+    path : numba function or None
+        A specialised path runner (``step`` inlined), if the model has one.
+    scalars, table, state : ndarray
+        The model's parameters and its state, laid out for its functions.
+    normal_load : float
+        The model's own constant normal load [N] (0 for models without one).
+    force_scale : float
+        A typical friction force [N] (the solvers' tolerances scale with it).
+    rest_capacity : float or None
+        For a memoryless model, the largest force it holds at rest (``g(0)``,
+        its friction is set-valued there); None for models with state.
+    """
+
+    step: object
+    force: object
+    tangent: object
+    path: object
+    scalars: np.ndarray
+    table: np.ndarray
+    state: np.ndarray
+    normal_load: float
+    force_scale: float
+    rest_capacity: float | None
+
+    def run(self, step, displacement, step_velocity, sample_velocity, loads, lo, hi, first,
+            out_force):
+        """Run the path arrays (indexed by the sample a step ends at) over ``lo .. hi - 1``."""
+        loads = _NO_LOADS if loads is None else loads
+        if self.path is not None:
+            self.path(self.scalars, self.table, self.state, step, displacement, step_velocity,
+                      sample_velocity, loads, self.normal_load, lo, hi, first, out_force)
+        else:
+            from polind.kernels.contract import run_steps_any
+            run_steps_any(self.step, self.force, self.scalars, self.table, self.state, step,
+                          displacement, step_velocity, sample_velocity, loads,
+                          self.normal_load, lo, hi, first, out_force)
+
+
+_NO_LOADS = np.zeros(0)
+
+
+class FrictionModel:
+    """Base class of every friction model: a validated parameter set and its step.
+
+    A model is one class (STYLE: a new kind is one class, the base class does
+    the rest).  A subclass declares
+
+    * ``type`` (the name used in model files) and ``parameters`` (a tuple of
+      :class:`~polind.models.params.Param`), optionally ``_check`` for rules
+      across parameters;
+    * ``initial_variables`` (the state at rest, a dict of float64 arrays) and
+      ``state_keys`` (their order in the flat state array; by default the
+      order of ``initial_variables``);
+    * ``step_functions`` (its numba ``step``, ``force`` and ``tangent``) and
+      ``kernel_arrays`` (its ``scalars`` and ``table``);
+    * optionally ``force_scale``, ``rest_capacity`` (memoryless models),
+      ``characteristic_scales``, ``phenomena`` and ``fit_defaults``.
+
+    :func:`polind.simulate`, :class:`polind.Stepper`, :class:`polind.Body`,
+    :func:`polind.simulate_system`, identification, the phenomena and the
+    benchmark all work from these.  :func:`polind.register_model` makes a
+    subclass defined outside polind usable in model files.
     """
 
     type: ClassVar[str] = ""
     parameters: ClassVar[tuple] = ()
     takes_normal_load: ClassVar[bool] = False
+    state_keys: ClassVar[tuple | None] = None
 
     def __init__(self, **params):
         clean = validate_table(self.type, self.parameters, params)
@@ -167,14 +289,52 @@ class FrictionModel:
     def _array(self, key):
         return np.asarray(self._params[key], dtype=np.float64)
 
-    # --- the stepping contract ---------------------------------------------------------
+    # --- what a subclass supplies --------------------------------------------------------
+
+    def initial_variables(self, normal_load=None) -> dict:
+        """The internal variables at rest before any motion (float64 arrays)."""
+        return {}
+
+    def step_functions(self) -> StepFunctions:
+        """The model's numba ``step``, ``force`` and ``tangent`` (and optional ``path``)."""
+        raise NotImplementedError(f"The {type(self).__name__} model does not supply "
+                                  "step_functions().")
+
+    def kernel_arrays(self, state: State) -> tuple:
+        """``(scalars, table)``: the float64 arrays its numba functions read."""
+        raise NotImplementedError(f"The {type(self).__name__} model does not supply "
+                                  "kernel_arrays().")
+
+    def force_scale(self) -> float:
+        """A typical friction force [N]: solver tolerances scale with it."""
+        return 1.0
+
+    def rest_capacity(self) -> float | None:
+        """Memoryless models: the largest force held at rest (``g(0)``); else None."""
+        return None
+
+    def load_bounds(self, state: State) -> tuple | None:
+        """``(low, high)``: the normal loads [N] a run from ``state`` may use (None: no load)."""
+        return None
+
+    def check_loads(self, loads: np.ndarray, state: State) -> None:
+        """Raise InputError for normal loads [N] (positive, finite) the model cannot run at."""
+
+    @property
+    def constant_load(self) -> float:
+        """The model's own normal load [N] when no signal is given (0: none)."""
+        return 0.0
+
+    # --- the stepping contract, built from the above -------------------------------------
 
     def initial_state(self, normal_load=None) -> State:
         """The state at rest before any motion (all internal variables zero)."""
         return State(self.type, variables=self.initial_variables(normal_load))
 
-    def initial_variables(self, normal_load=None) -> dict:
-        return {}
+    def _state_keys(self) -> tuple:
+        if self.state_keys is not None:
+            return tuple(self.state_keys)
+        return tuple(self.initial_variables(None))
 
     def check_state(self, state: State) -> None:
         """A state must belong to this model and have its shapes."""
@@ -189,6 +349,57 @@ class FrictionModel:
                 raise InputError(f"The state's '{key}' has {state.variables[key].size} entries; "
                                  f"the {self.type} model has {np.size(value)}.")
 
+    def flat_state(self, state: State) -> np.ndarray:
+        """The state's variables as one float64 array, in :attr:`state_keys` order."""
+        parts = [np.asarray(state.variables[key], dtype=np.float64).reshape(-1)
+                 for key in self._state_keys()]
+        return np.concatenate(parts) if parts else np.zeros(0)
+
+    def unflatten_state(self, flat: np.ndarray, state: State) -> None:
+        """Write a flat state array back into ``state.variables`` (copies)."""
+        offset = 0
+        for key in self._state_keys():
+            size = np.size(state.variables[key])
+            state.variables[key] = np.array(flat[offset:offset + size], dtype=np.float64)
+            offset += size
+
+    def step_kernel(self, state: State | None = None, normal_load=None) -> StepKernel:
+        """The model as compiled code can step it: functions and flat arrays.
+
+        Parameters
+        ----------
+        state : State, optional
+            Start from this state (a result's ``final_state``); default: at rest.
+        normal_load : array_like, optional
+            The normal loads [N] the run will see (a Pol-Ind model builds its
+            element table for the largest).
+
+        Returns
+        -------
+        StepKernel
+            Its ``state`` array is a copy: stepping it leaves ``state`` as it was.
+        """
+        if state is None:
+            state = self.initial_state(normal_load)
+        else:
+            self.check_state(state)
+        functions = self.step_functions()
+        scalars, table = self.kernel_arrays(state)
+        return StepKernel(
+            step=functions.step, force=functions.force, tangent=functions.tangent,
+            path=functions.path,
+            scalars=np.ascontiguousarray(scalars, dtype=np.float64),
+            table=np.ascontiguousarray(np.atleast_2d(table), dtype=np.float64),
+            state=np.ascontiguousarray(self.flat_state(state)),
+            normal_load=float(self.constant_load), force_scale=float(self.force_scale()),
+            rest_capacity=self.rest_capacity())
+
     def _advance(self, path: Path, state: State, normal_load) -> np.ndarray:
-        """Run the kernel over ``path`` from ``state`` (updated in place); return forces."""
-        raise NotImplementedError
+        """Run the model over ``path`` from ``state`` (updated in place); return forces."""
+        kernel = self.step_kernel(state, normal_load)
+        out = np.empty(path.t.shape[0])
+        loads = None if normal_load is None else np.asarray(normal_load, dtype=np.float64)
+        kernel.run(path.step, path.displacement, path.step_velocity, path.sample_velocity,
+                   loads, 0, out.shape[0], True, out)
+        self.unflatten_state(kernel.state, state)
+        return out

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from polind.models.base import FrictionModel, register
+from polind.models.base import FrictionModel, StepFunctions, register
 from polind.models.params import Param
 
 
@@ -38,11 +38,15 @@ class Dahl(FrictionModel):
     def initial_variables(self, normal_load=None):
         return {"friction": np.zeros(1)}
 
-    def _advance(self, path, state, normal_load):
+    def step_functions(self):
         # Kernels load numba: imported on first use so `import polind` stays fast.
-        from polind.kernels.single import dahl_run
+        from polind.kernels import single
+        return StepFunctions(single.dahl_step, single.dahl_force, single.dahl_tangent,
+                             single.dahl_path)
+
+    def kernel_arrays(self, state):
         p = self._params
-        out = np.empty(path.t.shape[0])
-        dahl_run(path.displacement, p["stiffness"], p["coulomb_force"], p["exponent"],
-                 state.variables["friction"], out)
-        return out
+        return np.array([p["stiffness"], p["coulomb_force"], p["exponent"]]), np.zeros((1, 0))
+
+    def force_scale(self):
+        return self._params["coulomb_force"]

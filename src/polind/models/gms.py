@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from polind.models.base import FrictionModel, register
+from polind.models.base import FrictionModel, StepFunctions, register
 from polind.models.params import Param, STRIBECK_PARAMS, VISCOUS, same_length, sums_to
 
 
@@ -49,14 +49,34 @@ class GMS(FrictionModel):
         n = len(self._params["stiffness"])
         return {"element_force": np.zeros(n), "slip_direction": np.zeros(n)}
 
-    def _advance(self, path, state, normal_load):
+    def step_functions(self):
         # Kernels load numba: imported on first use so `import polind` stays fast.
-        from polind.kernels.elements import gms_run
-        from polind.kernels.stribeck import SHAPE_CODES
-        p = self._params
-        out = np.empty(path.t.shape[0])
-        gms_run(path.step, path.displacement, path.step_velocity, self._array("stiffness"),
-                self._array("weight"), p["attraction"], p["coulomb_force"], p["static_force"],
-                p["stribeck_velocity"], p["stribeck_exponent"], SHAPE_CODES[p["stribeck_shape"]],
-                state.variables["element_force"], state.variables["slip_direction"], out)
-        return out + p["viscous_coefficient"] * path.sample_velocity
+        from polind.kernels import elements
+        return StepFunctions(elements.gms_step, elements.gms_force, elements.gms_tangent,
+                             elements.gms_path)
+
+    def kernel_arrays(self, state):
+        return gms_arrays(self._params, self._array("stiffness"), self._array("weight"))
+
+    def force_scale(self):
+        return max(self._params["coulomb_force"], self._params["static_force"])
+
+
+def gms_arrays(params, stiffness, weight):
+    """``(scalars, table)`` of the GMS step for a parameter set (GMS and Pol-Ind)."""
+    from polind.kernels import elements as slots
+    from polind.kernels.stribeck import SHAPE_CODES
+
+    scalars = np.zeros(slots.N_GMS_SCALARS)
+    scalars[slots.VISCOUS] = params["viscous_coefficient"]
+    scalars[slots.ATTRACTION] = params["attraction"]
+    scalars[slots.COULOMB] = params["coulomb_force"]
+    scalars[slots.STATIC] = params["static_force"]
+    scalars[slots.STRIBECK_VELOCITY] = params["stribeck_velocity"]
+    scalars[slots.STRIBECK_EXPONENT] = params["stribeck_exponent"]
+    scalars[slots.STRIBECK_SHAPE] = SHAPE_CODES[params["stribeck_shape"]]
+    stiffness = np.asarray(stiffness, dtype=np.float64)
+    weight = np.asarray(weight, dtype=np.float64)
+    # An element without load (alpha = 0) never carries force: 1/alpha = inf.
+    inverse = np.divide(1.0, weight, where=weight > 0.0, out=np.full_like(weight, np.inf))
+    return scalars, np.vstack([stiffness, weight, inverse])

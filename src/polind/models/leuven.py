@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from polind.models.base import FrictionModel, register
+from polind.models.base import FrictionModel, StepFunctions, register
 from polind.models.params import Param, STRIBECK_PARAMS, VISCOUS, same_length, sums_to
 
 
@@ -65,19 +65,20 @@ class Leuven(FrictionModel):
         return {"element_force": np.zeros(len(self._params["stiffness"])),
                 "deflection": np.zeros(1), "deflection_rate": np.zeros(1)}
 
-    def _advance(self, path, state, normal_load):
+    def step_functions(self):
         # Kernels load numba: imported on first use so `import polind` stays fast.
-        from polind.kernels.single import leuven_run
+        from polind.kernels import single
+        return StepFunctions(single.leuven_step, single.leuven_force, single.leuven_tangent,
+                             single.leuven_path)
+
+    def kernel_arrays(self, state):
         from polind.kernels.stribeck import SHAPE_CODES
         p = self._params
-        out = np.empty(path.t.shape[0])
-        z_and_rate = np.concatenate([state.variables["deflection"],
-                                     state.variables["deflection_rate"]])
-        leuven_run(path.step, path.step_velocity, self._array("stiffness"),
-                   self._array("breakaway_force"), p["exponent"], p["bristle_damping"],
-                   p["coulomb_force"], p["static_force"], p["stribeck_velocity"],
-                   p["stribeck_exponent"], SHAPE_CODES[p["stribeck_shape"]],
-                   state.variables["element_force"], z_and_rate, out)
-        state.variables["deflection"][0] = z_and_rate[0]
-        state.variables["deflection_rate"][0] = z_and_rate[1]
-        return out + p["viscous_coefficient"] * path.sample_velocity
+        scalars = np.array([p["viscous_coefficient"], p["exponent"], p["bristle_damping"],
+                            p["coulomb_force"], p["static_force"], p["stribeck_velocity"],
+                            p["stribeck_exponent"], SHAPE_CODES[p["stribeck_shape"]],
+                            float(np.sum(self._array("breakaway_force")))], dtype=np.float64)
+        return scalars, np.vstack([self._array("stiffness"), self._array("breakaway_force")])
+
+    def force_scale(self):
+        return max(self._params["coulomb_force"], self._params["static_force"])

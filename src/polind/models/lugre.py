@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from polind.models.base import FrictionModel, register
+from polind.models.base import FrictionModel, StepFunctions, register
 from polind.models.params import Param, STRIBECK_PARAMS, VISCOUS
 
 
@@ -51,14 +51,20 @@ class LuGre(FrictionModel):
     def initial_variables(self, normal_load=None):
         return {"deflection": np.zeros(1)}
 
-    def _advance(self, path, state, normal_load):
+    def step_functions(self):
         # Kernels load numba: imported on first use so `import polind` stays fast.
-        from polind.kernels.single import lugre_run
+        from polind.kernels import single
+        return StepFunctions(single.lugre_step, single.lugre_force, single.lugre_tangent,
+                             single.lugre_path)
+
+    def kernel_arrays(self, state):
         from polind.kernels.stribeck import SHAPE_CODES
         p = self._params
-        out = np.empty(path.t.shape[0])
-        lugre_run(path.step, path.step_velocity, path.sample_velocity, p["bristle_stiffness"],
-                  p["bristle_damping"], p["coulomb_force"], p["static_force"],
-                  p["stribeck_velocity"], p["stribeck_exponent"],
-                  SHAPE_CODES[p["stribeck_shape"]], state.variables["deflection"], out)
-        return out + p["viscous_coefficient"] * path.sample_velocity
+        scalars = np.array([p["viscous_coefficient"], p["bristle_stiffness"],
+                            p["bristle_damping"], p["coulomb_force"], p["static_force"],
+                            p["stribeck_velocity"], p["stribeck_exponent"],
+                            SHAPE_CODES[p["stribeck_shape"]]], dtype=np.float64)
+        return scalars, np.zeros((1, 0))
+
+    def force_scale(self):
+        return max(self._params["coulomb_force"], self._params["static_force"])

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from polind.models.base import FrictionModel, register
+from polind.models.base import FrictionModel, StepFunctions, register
 from polind.models.params import Param, VISCOUS, same_length
 
 
@@ -56,10 +56,15 @@ class MaxwellSlip(FrictionModel):
     def initial_variables(self, normal_load=None):
         return {"element_force": np.zeros(len(self._params["stiffness"]))}
 
-    def _advance(self, path, state, normal_load):
+    def step_functions(self):
         # Kernels load numba: imported on first use so `import polind` stays fast.
-        from polind.kernels.elements import maxwell_slip_run
-        out = np.empty(path.t.shape[0])
-        maxwell_slip_run(path.displacement, self._array("stiffness"),
-                         self._array("breakaway_force"), state.variables["element_force"], out)
-        return out + self._params["viscous_coefficient"] * path.sample_velocity
+        from polind.kernels import elements
+        return StepFunctions(elements.maxwell_slip_step, elements.maxwell_slip_force,
+                             elements.maxwell_slip_tangent, elements.maxwell_slip_path)
+
+    def kernel_arrays(self, state):
+        table = np.vstack([self._array("stiffness"), self._array("breakaway_force")])
+        return np.array([self._params["viscous_coefficient"]]), table
+
+    def force_scale(self):
+        return float(np.sum(self._params["breakaway_force"]))

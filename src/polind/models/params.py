@@ -2,10 +2,10 @@
 
 Each model lists its :class:`Param` entries; :func:`validate_table` checks a
 ``[model]`` table against them and builds every error message from one
-template, e.g. ``The 'stiffness' parameter of maxwell-slip must be positive.
-Got -3.0 at index 2.``  Nested tables (the Pol-Ind ``surface``, ``materials``
-and ``discretisation``) are declared with :class:`Table` and named with a dot
-(``surface.height_std``).
+template (:mod:`polind.validation`), e.g. ``The 'stiffness' parameter of
+maxwell-slip must be positive. Got -3.0 at index 2.``  Nested tables (the
+Pol-Ind ``surface``, ``materials`` and ``discretisation``) are declared with
+:class:`Table` and named with a dot (``surface.height_std``).
 """
 
 from __future__ import annotations
@@ -17,16 +17,11 @@ import numpy as np
 
 from polind.errors import InputError, describe
 
-REQUIRED = object()
+# The number checks and their message template live in the bottom layer, so
+# that the contact mechanics can use them too; re-exported here.
+from polind.validation import _BOUNDS, _check_bound, _Context, _number, check_number  # noqa: F401
 
-_BOUNDS = {
-    "positive": (lambda x: x > 0.0, "positive"),
-    "nonnegative": (lambda x: x >= 0.0, "non-negative"),
-    "any": (lambda x: True, "finite"),
-    # Outside (-1, 0.5] the elastic energy of an isotropic solid is not positive.
-    "poisson": (lambda x: -1.0 < x <= 0.5, "in the range (-1, 0.5]"),
-    "fraction": (lambda x: 0.0 < x <= 1.0, "in the range (0, 1]"),
-}
+REQUIRED = object()
 
 
 @dataclass(frozen=True)
@@ -52,38 +47,6 @@ class Table:
     key: str
     entries: tuple
     default: object = REQUIRED
-
-
-@dataclass
-class _Context:
-    model_type: str
-    prefix: str = ""
-
-    def name(self, key):
-        return f"{self.prefix}{key}"
-
-    def fail(self, key, expected, value, where=""):
-        raise InputError(f"The '{self.name(key)}' parameter of {self.model_type} must be "
-                         f"{expected}. Got {describe(value)}{where} instead.")
-
-
-def _number(ctx, key, value, integer=False, index=None):
-    where = "" if index is None else f" at index {index}"
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        ctx.fail(key, "an integer" if integer else "a number", value, where)
-    if integer and not float(value).is_integer():
-        ctx.fail(key, "an integer", value, where)
-    number = float(value)
-    if not math.isfinite(number):
-        ctx.fail(key, "finite", value, where)
-    return number
-
-
-def _check_bound(ctx, param, number, index=None):
-    test, text = _BOUNDS[param.bound]
-    if not test(number):
-        where = "" if index is None else f" at index {index}"
-        ctx.fail(param.key, text, number, where)
 
 
 def _validate_value(ctx, param, value):
@@ -113,22 +76,6 @@ def _validate_value(ctx, param, value):
         number = int(number)
     _check_bound(ctx, param, number)
     return number
-
-
-def check_number(owner, key, value, bound="any", *, integer=False, maximum=None):
-    """One number checked with the message template of this module.
-
-    For code outside a model table (the contact mechanics' public
-    functions): ``key`` is named as given, ``bound`` is one of the bounds of
-    :class:`Param`; an integer may have an upper ``maximum``.
-    """
-    ctx = _Context(owner)
-    number = _number(ctx, key, value, integer=integer)
-    number = int(number) if integer else number
-    _check_bound(ctx, Param(key, bound=bound), number)
-    if maximum is not None and number > maximum:
-        ctx.fail(key, f"at most {maximum}", value)
-    return int(number) if integer else number
 
 
 def validate_table(model_type, entries, table, prefix=""):

@@ -34,7 +34,8 @@ import functools
 import numpy as np
 
 from polind.errors import InputError
-from polind.models.base import FrictionModel, register
+from polind.models.base import FrictionModel, StepFunctions, register
+from polind.models.gms import gms_arrays
 from polind.models.params import Param, Table, VISCOUS
 
 _SURFACE = Table("surface", (
@@ -125,6 +126,8 @@ class PolInd(FrictionModel):
 
     type = "pol-ind"
     takes_normal_load = True
+    state_keys = ("element_force", "slip_direction", "element_height", "element_count",
+                  "table_load")
     parameters = (
         Param("normal_load", unit="N"),
         Param("static_coefficient"),
@@ -222,40 +225,78 @@ class PolInd(FrictionModel):
                 raise InputError(f"The state's '{key}' has {state.variables[key].shape[0]} "
                                  f"entries; its 'element_force' has {n}.")
 
-    def _advance(self, path, state, normal_load):
+    def step_functions(self):
         # Kernels load numba: imported on first use so `import polind` stays fast.
-        from polind.kernels.elements import gms_run, pol_ind_varying_run
-        from polind.kernels.stribeck import SHAPE_CODES
-        p = self._params
-        n_samples = path.t.shape[0]
+        from polind.kernels import pol_ind
+        return StepFunctions(pol_ind.pol_ind_step, pol_ind.pol_ind_force,
+                             pol_ind.pol_ind_tangent, pol_ind.pol_ind_path)
+
+    def kernel_arrays(self, state):
+        from polind.kernels import pol_ind as slots
+        from polind.kernels.separation import DIRECT, STATISTICAL
+        from polind.kernels.special import special_addresses
+
         table_load = float(state.variables["table_load"][0])
-        if normal_load is None:
-            normal_load = np.full(n_samples, p["normal_load"])
-        peak = float(np.max(normal_load))
+        contact = self.contact(table_load)
+        surface = contact.surface
+        gms_scalars, gms_table = gms_arrays(self.gms_parameters(table_load),
+                                            *self._table_rows(table_load))
+        scalars = np.zeros(slots.N_SCALARS)
+        scalars[:gms_scalars.shape[0]] = gms_scalars
+        p = self._params
+        scalars[slots.KINETIC_COEFFICIENT] = p["kinetic_coefficient"]
+        scalars[slots.STATIC_COEFFICIENT] = p["static_coefficient"]
+        scalars[slots.RADIUS] = surface.asperity_radius
+        scalars[slots.E_STAR] = surface.E_star
+        scalars[slots.G_STAR] = surface.G_star
+        scalars[slots.CURRENT_LOAD] = table_load
+        scalars[slots.SEPARATION] = contact.separation
+        # No warm-start information yet: the first solve starts at the table's d.
+        scalars[slots.LOAD_VALUE] = 0.0
+        scalars[slots.LOAD_SLOPE] = 0.0
+        if surface.kind == "statistical":
+            scalars[slots.SURFACE_KIND] = STATISTICAL
+            scalars[slots.LOAD_SCALE] = surface._load_scale
+            scalars[slots.HEIGHT_STD] = surface.height_std
+            scalars[slots.LOWER], scalars[slots.UPPER] = surface.separation_range
+        else:
+            scalars[slots.SURFACE_KIND] = DIRECT
+            scalars[slots.UPPER] = float(np.max(state.variables["element_height"]))
+        scalars[slots.HERTZ] = (4.0 / 3.0) * surface.E_star * np.sqrt(surface.asperity_radius)
+        scalars[slots.ADDRESSES:slots.ADDRESSES + 2] = special_addresses()
+        table = np.zeros((slots.N_ROWS, gms_table.shape[1]))
+        table[:gms_table.shape[0]] = gms_table
+        return scalars, table
+
+    def _table_rows(self, load):
+        gms = self.gms_parameters(load)
+        return gms["stiffness"], gms["weight"]
+
+    def force_scale(self):
+        p = self._params
+        return max(p["kinetic_coefficient"], p["static_coefficient"]) * p["normal_load"]
+
+    @property
+    def constant_load(self):
+        return self._params["normal_load"]
+
+    def load_bounds(self, state):
+        table_load = float(state.variables["table_load"][0])
+        smallest = self.contact(table_load).surface.load_range[0]
+        return max(smallest, 0.0), table_load
+
+    def check_loads(self, loads, state):
+        """Loads the run may use: at most the state's table load, within the surface's range."""
+        table_load = float(state.variables["table_load"][0])
+        peak = float(np.max(loads))
         if peak > table_load * (1.0 + 1e-12):
             raise InputError(f"The 'normal_load' reaches {peak!r} N but the state's element "
                              f"table was built for at most {table_load!r} N; start the first "
                              f"chunk with the largest load or simulate the record at once.")
-        shape = SHAPE_CODES[p["stribeck_shape"]]
-        out = np.empty(n_samples)
-        forces = state.variables["element_force"]
-        slip = state.variables["slip_direction"]
-        if np.all(normal_load == table_load):
-            gms = self.gms_parameters(table_load)
-            gms_run(path.step, path.displacement, path.step_velocity, gms["stiffness"],
-                    gms["weight"], gms["attraction"], gms["coulomb_force"], gms["static_force"],
-                    gms["stribeck_velocity"], gms["stribeck_exponent"], shape, forces, slip, out)
-        else:
-            from polind.contact import solve_separation_series
-
-            contact = self.contact(table_load)
-            table = contact.elements
-            separation = solve_separation_series(contact.surface, normal_load,
-                                                 initial=contact.separation)
-            pol_ind_varying_run(
-                path.step, path.displacement, path.step_velocity, separation, normal_load,
-                state.variables["element_height"], state.variables["element_count"],
-                table.asperity_radius, table.E_star, table.G_star, p["static_coefficient"],
-                p["kinetic_coefficient"], p["attraction"], p["stribeck_velocity"],
-                p["stribeck_exponent"], shape, forces, slip, out)
-        return out + p["viscous_coefficient"] * path.sample_velocity
+        smallest = self.contact(table_load).surface.load_range[0]
+        low = float(np.min(loads))
+        if low < smallest:
+            index = int(np.argmin(loads))
+            raise InputError(f"The 'normal_load' of pol-ind is too small for its surface: "
+                             f"no asperity would be in contact. Got {low!r} N at index {index}; "
+                             f"expected at least {smallest:.6g} N.")

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from polind.models.base import FrictionModel, register
+from polind.models.base import FrictionModel, StepFunctions, register
 from polind.models.params import Param, STRIBECK_PARAMS, VISCOUS
 
 
@@ -19,6 +19,19 @@ def stribeck_curve(v, coulomb_force, static_force, stribeck_velocity, stribeck_e
     ratio = np.abs(np.asarray(v, dtype=np.float64) / stribeck_velocity) ** stribeck_exponent
     decay = 1.0 / (1.0 + ratio) if stribeck_shape == "rational" else np.exp(-ratio)
     return coulomb_force + (static_force - coulomb_force) * decay
+
+
+def _memoryless_functions(self):
+    # Kernels load numba: imported on first use so `import polind` stays fast.
+    from polind.kernels import static
+    return StepFunctions(static.memoryless_step, static.memoryless_force,
+                         static.memoryless_tangent, static.memoryless_path)
+
+
+def _memoryless_scalars(coulomb, static, velocity, exponent, shape, viscous):
+    from polind.kernels.stribeck import SHAPE_CODES
+    return np.array([viscous, coulomb, static, velocity, exponent, SHAPE_CODES[shape]],
+                    dtype=np.float64)
 
 
 @register
@@ -41,8 +54,18 @@ class Coulomb(FrictionModel):
     type = "coulomb"
     parameters = (Param("coulomb_force", unit="N"),)
 
-    def _advance(self, path, state, normal_load):
-        return self._params["coulomb_force"] * np.sign(path.sample_velocity)
+    def kernel_arrays(self, state):
+        force = self._params["coulomb_force"]
+        # Coulomb is the Stribeck curve with Fs = Fc: g is then constant.
+        return _memoryless_scalars(force, force, 1.0, 1.0, "exponential", 0.0), np.zeros((1, 0))
+
+    def force_scale(self):
+        return self._params["coulomb_force"]
+
+    def rest_capacity(self):
+        return self._params["coulomb_force"]
+
+    step_functions = _memoryless_functions
 
 
 @register
@@ -65,9 +88,17 @@ class Stribeck(FrictionModel):
     type = "stribeck"
     parameters = STRIBECK_PARAMS + (VISCOUS,)
 
-    def _advance(self, path, state, normal_load):
+    def kernel_arrays(self, state):
         p = self._params
-        v = path.sample_velocity
-        g = stribeck_curve(v, p["coulomb_force"], p["static_force"], p["stribeck_velocity"],
-                           p["stribeck_exponent"], p["stribeck_shape"])
-        return g * np.sign(v) + p["viscous_coefficient"] * v
+        return _memoryless_scalars(p["coulomb_force"], p["static_force"], p["stribeck_velocity"],
+                                   p["stribeck_exponent"], p["stribeck_shape"],
+                                   p["viscous_coefficient"]), np.zeros((1, 0))
+
+    def force_scale(self):
+        return max(self._params["coulomb_force"], self._params["static_force"])
+
+    def rest_capacity(self):
+        # g(0) = Fs: the set-valued friction at rest spans [-Fs, Fs].
+        return self._params["static_force"]
+
+    step_functions = _memoryless_functions

@@ -1,0 +1,371 @@
+"""A friction model in the user's own loop: :class:`Stepper` and :class:`Body`.
+
+Both run the model's own step function (the stepping contract of the user
+guide, :mod:`polind.kernels.contract`) one sample at a time, with the same
+arithmetic as :func:`polind.simulate` and :func:`polind.simulate_system`:
+
+* :class:`Stepper` is a prescribed motion fed sample by sample (a position
+  or a velocity per call) and gives the friction force at each sample,
+  equal to ``simulate`` on the same samples;
+* :class:`Body` is a mass with friction under an applied force that the
+  user's controller computes, advanced by the implicit step of
+  :func:`polind.simulate_system`, so a stuck body holds exactly still however
+  stiff the model's elements.
+
+Checks are the lightest that keep bad input out: a value that is not a
+finite real number, a time that does not increase, a load the model cannot
+take, all raise :class:`polind.InputError`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from polind.errors import InputError, describe
+from polind.models import FrictionModel, State
+
+__all__ = ["Stepper", "Body"]
+
+
+def _real(name, value, owner):
+    """``value`` as a finite float, else InputError (the slow path of the checks)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        if isinstance(value, np.ndarray) and value.shape == () and value.dtype.kind in "iuf":
+            value = value.item()
+        else:
+            raise InputError(f"The '{name}' of {owner} must be a real number. "
+                             f"Got {describe(value)} instead.")
+    number = float(value)
+    if not math.isfinite(number):
+        raise InputError(f"The '{name}' of {owner} must be finite. Got {number!r} instead.")
+    return number
+
+
+def _check_model(model, owner):
+    if not isinstance(model, FrictionModel):
+        raise InputError(f"The 'model' of {owner} must be a polind friction model (load_model "
+                         f"or model_from_dict). Got {describe(model)} instead.")
+
+
+def _start_state(model, state, owner):
+    if state is None:
+        return model.initial_state()
+    if not isinstance(state, State):
+        raise InputError(f"The 'state' of {owner} must be a polind State (a result's "
+                         f"final_state or State.from_dict). Got {describe(state)} instead.")
+    model.check_state(state)
+    return state.copy()
+
+
+class _LoadCheck:
+    """The normal loads a model accepts, checked per sample without building arrays."""
+
+    def __init__(self, model, state, owner):
+        self.model = model
+        self.state = state
+        self.owner = owner
+        self.takes_load = model.takes_normal_load
+        self.bounds = model.load_bounds(state) if self.takes_load else None
+
+    def __call__(self, normal_load):
+        if not self.takes_load:
+            raise InputError(f"A 'normal_load' applies to the pol-ind model only; the model is "
+                             f"'{self.model.type}'.")
+        load = _real("normal_load", normal_load, self.owner)
+        low, high = self.bounds
+        if not load > 0.0:
+            raise InputError(f"The 'normal_load' of {self.owner} must be positive. "
+                             f"Got {load!r} instead.")
+        if not low <= load <= high:
+            self.model.check_loads(np.array([load]), self.state)
+        return load
+
+
+def _state_of(model, template, flat, time, position, velocity, force):
+    state = template.copy()
+    model.unflatten_state(flat, state)
+    state.time, state.position, state.velocity, state.force = time, position, velocity, force
+    return state
+
+
+class Stepper:
+    """A friction model advanced one sample at a time along a prescribed motion.
+
+    ``advance`` follows the rules of :func:`polind.simulate` exactly: with
+    ``x`` the path is linear between samples (step velocity
+    ``(x - x_prev) / (t - t_prev)``); with ``v`` the step's velocity is the
+    mean of its end velocities and the position its trapezoidal integral.
+    So ``[Stepper(model, velocity=res.v[0]).force] + [advance(t[k], x=x[k])
+    for k >= 1]`` equals ``simulate(model, t, x=x).force`` (the same
+    compiled step runs in both).
+
+    Parameters
+    ----------
+    model : FrictionModel
+        Any polind model, or a registered model of your own; never mutated.
+    state : State, optional
+        Continue from a saved state (a result's ``final_state``): time,
+        position, velocity and force are then the state's.
+    time, position : float, optional
+        The first sample [s] and [m] (default 0) of a stepper without state.
+    velocity : float, optional
+        The velocity [m/s] at the first sample (default 0).  Only the first
+        ``force`` depends on it (its rate terms); :func:`polind.simulate`
+        with ``x`` reports the first step's velocity there, which a stepper
+        cannot know before the step: pass it here to get that force too.
+
+    Attributes
+    ----------
+    force : float
+        The friction force [N] at the current sample.
+    time, position, velocity : float
+        The current sample [s], [m], [m/s].
+    state : State
+        The model's state at the current sample, as ``simulate``'s
+        ``final_state`` (a copy).
+
+    Examples
+    --------
+    >>> import numpy as np, polind
+    >>> model = polind.model_from_dict({"model": {"type": "maxwell-slip",
+    ...     "stiffness": [1e6, 1e5], "breakaway_force": [1.0, 1.0]}})
+    >>> stepper = polind.Stepper(model)
+    >>> [stepper.advance(t, x=x) for t, x in [(1.0, 2e-6), (2.0, 0.0)]]
+    [1.2, -1.0]
+    """
+
+    def __init__(self, model, state=None, time=None, position=None, velocity=None):
+        _check_model(model, "Stepper")
+        if state is not None and not (time is None and position is None and velocity is None):
+            raise InputError("Give the Stepper either a 'state' or 'time'/'position'/'velocity', "
+                             "not both: a state carries its own.")
+        start = _start_state(model, state, "Stepper")
+        self._model = model
+        self._template = start
+        kernel = model.step_kernel(start)
+        self._kernel = kernel
+        self._step = kernel.step
+        self._scalars, self._table, self._flat = kernel.scalars, kernel.table, kernel.state
+        self._load = kernel.normal_load
+        self._check_load = _LoadCheck(model, start, "Stepper")
+        if state is not None:
+            self._time, self._position = state.time, state.position
+            self._velocity, self._force = state.velocity, state.force
+        else:
+            self._time = 0.0 if time is None else _real("time", time, "Stepper")
+            self._position = 0.0 if position is None else _real("position", position, "Stepper")
+            self._velocity = 0.0 if velocity is None else _real("velocity", velocity, "Stepper")
+            self._force = float(kernel.force(self._scalars, self._table, self._flat,
+                                             self._velocity, self._load))
+
+    @property
+    def force(self) -> float:
+        return self._force
+
+    @property
+    def time(self) -> float:
+        return self._time
+
+    @property
+    def position(self) -> float:
+        return self._position
+
+    @property
+    def velocity(self) -> float:
+        return self._velocity
+
+    @property
+    def kernel(self):
+        """The model's :class:`~polind.models.base.StepKernel`, advanced by this stepper."""
+        return self._kernel
+
+    @property
+    def state(self) -> State:
+        return _state_of(self._model, self._template, self._flat, self._time, self._position,
+                         self._velocity, self._force)
+
+    def advance(self, t, x=None, v=None, normal_load=None) -> float:
+        """Advance to the sample at time ``t`` [s]; return the friction force there [N].
+
+        Parameters
+        ----------
+        t : float
+            The new sample's time [s], after the current one.
+        x, v : float
+            Exactly one: the position [m] at ``t`` (linear path from the
+            current sample) or the velocity [m/s] at ``t`` (trapezoidal).
+        normal_load : float, optional
+            The normal load [N] at ``t`` (models that use it; default: the
+            model's own).
+        """
+        # Fast path: plain floats, checked with comparisons only.
+        if type(t) is not float:
+            t = _real("t", t, "Stepper.advance")
+        step = t - self._time
+        if not step > 0.0 or step == math.inf:
+            raise InputError(f"The 't' of Stepper.advance must be finite and after the current "
+                             f"time {self._time!r}. Got {t!r} instead.")
+        if v is None:
+            if x is None:
+                raise InputError("Give Stepper.advance exactly one of 'x' and 'v'. Got neither.")
+            if type(x) is not float:
+                x = _real("x", x, "Stepper.advance")
+            displacement = x - self._position
+            step_velocity = displacement / step
+            if not -math.inf < step_velocity < math.inf:
+                raise InputError(f"The 'x' of Stepper.advance must be finite, with a finite step "
+                                 f"velocity. Got x = {x!r} at t = {t!r}.")
+            sample_velocity = step_velocity
+            position = x
+        else:
+            if x is not None:
+                raise InputError("Give Stepper.advance exactly one of 'x' and 'v'. Got both.")
+            if type(v) is not float:
+                v = _real("v", v, "Stepper.advance")
+            step_velocity = 0.5 * (self._velocity + v)
+            displacement = step_velocity * step
+            position = self._position + displacement
+            if not -math.inf < position < math.inf:
+                raise InputError(f"The 'v' of Stepper.advance must be finite, with a finite "
+                                 f"position. Got v = {v!r} at t = {t!r}.")
+            sample_velocity = v
+        load = self._load if normal_load is None else self._check_load(normal_load)
+        force = self._step(self._scalars, self._table, self._flat, step, displacement,
+                           step_velocity, sample_velocity, load)
+        self._time, self._position, self._velocity, self._force = t, position, \
+            sample_velocity, force
+        return force
+
+
+class Body:
+    """A mass with friction, stepped by the user's controller (MODELS.md 8).
+
+    ``step(applied_force)`` holds the applied force over one step of
+    ``time_step`` and advances the body by the implicit step of
+    :func:`polind.simulate_system` (BDF2 by default): the friction force at
+    the end of the step is the model's own exact update at the step's
+    velocity, solved together with the momentum equation, so a stuck body
+    stays exactly still (friction equals the applied force) however stiff the
+    model's elements.  A sequence of ``step`` calls gives the same positions,
+    velocities and forces as ``simulate_system(model, system,
+    applied=forces)`` (the same compiled step).
+
+    Parameters
+    ----------
+    model : FrictionModel
+        Any polind model; never mutated.
+    mass : float, default 1
+        m [kg], positive.
+    time_step : float, default 1e-3
+        h [s], positive.
+    position, velocity : float, default 0
+        Initial position [m] and velocity [m/s].
+    state : State, optional
+        The model's state to start from (default: at rest); its time is the
+        body's starting time.
+    method : {"bdf2", "euler"}, default "bdf2"
+        The implicit momentum scheme (see :func:`polind.simulate_system`).
+
+    Attributes
+    ----------
+    time, position, velocity : float
+        The body at the current sample [s], [m], [m/s].
+    friction : float
+        The friction force [N] at the current sample (before the first step:
+        the model's force at its state and the initial velocity; a
+        memoryless model at rest gives 0 there).
+    state : State
+        The model's state at the current sample (a copy).
+
+    Examples
+    --------
+    >>> import polind
+    >>> model = polind.model_from_dict({"model": {"type": "coulomb", "coulomb_force": 1.0}})
+    >>> body = polind.Body(model, mass=1.0, time_step=1e-3)
+    >>> body.step(0.5)                     # below Fc: stuck, friction holds the force
+    (0.0, 0.0, 0.5)
+    """
+
+    def __init__(self, model, mass=1.0, time_step=1e-3, position=0.0, velocity=0.0,
+                 state=None, method="bdf2"):
+        from polind.dynamics import METHODS, initial_friction
+
+        _check_model(model, "Body")
+        mass = _real("mass", mass, "Body")
+        time_step = _real("time_step", time_step, "Body")
+        for name, value in (("mass", mass), ("time_step", time_step)):
+            if not value > 0.0:
+                raise InputError(f"The '{name}' of Body must be positive. Got {value!r} instead.")
+        if method not in METHODS:
+            raise InputError(f"The 'method' of Body must be one of 'bdf2', 'euler'. "
+                             f"Got {describe(method)} instead.")
+        position = _real("position", position, "Body")
+        velocity = _real("velocity", velocity, "Body")
+        start = _start_state(model, state, "Body")
+        kernel = model.step_kernel(start)
+        self._model = model
+        self._template = start
+        self._kernel = kernel
+        self._mass = mass
+        self._time_step = time_step
+        self._method = METHODS[method]
+        self._start_time = start.time if state is not None else 0.0
+        self._steps = 0
+        self._memoryless = kernel.rest_capacity is not None
+        self._rest_capacity = kernel.rest_capacity if self._memoryless else 0.0
+        self._scratch = np.empty_like(kernel.state)
+        self._check_load = _LoadCheck(model, start, "Body")
+        friction = initial_friction(kernel, velocity, 0.0)
+        # [x_n, v_n, v_{n-1}, w_n, history, friction]: what the next step needs.
+        self._body = np.array([position, velocity, velocity, velocity, 0.0, friction])
+
+    def _time_at(self, steps):
+        return self._start_time + steps * self._time_step
+
+    @property
+    def time(self) -> float:
+        return self._time_at(self._steps)
+
+    @property
+    def position(self) -> float:
+        return float(self._body[0])
+
+    @property
+    def velocity(self) -> float:
+        return float(self._body[1])
+
+    @property
+    def friction(self) -> float:
+        return float(self._body[5])
+
+    @property
+    def state(self) -> State:
+        return _state_of(self._model, self._template, self._kernel.state, self.time,
+                         self.position, self.velocity, self.friction)
+
+    def step(self, applied_force, normal_load=None):
+        """Hold ``applied_force`` [N] over one step; return ``(x, v, F)`` at its end.
+
+        ``normal_load`` [N] is the normal load at the end of the step for
+        models that use it (default: the model's own).
+        """
+        from polind.kernels.dynamics import advance_body
+
+        if type(applied_force) is not float:
+            applied_force = _real("applied_force", applied_force, "Body.step")
+        elif not -math.inf < applied_force < math.inf:
+            raise InputError(f"The 'applied_force' of Body.step must be finite. "
+                             f"Got {applied_force!r} instead.")
+        kernel = self._kernel
+        load = kernel.normal_load if normal_load is None else self._check_load(normal_load)
+        # The step from the sample times as simulate_system computes them.
+        step = self._time_at(self._steps + 1) - self._time_at(self._steps)
+        advance_body(kernel.step, kernel.tangent, self._memoryless, self._rest_capacity,
+                     kernel.force_scale, kernel.scalars, kernel.table, kernel.state,
+                     self._scratch, self._method, self._mass, step, applied_force, self._body,
+                     load)
+        self._steps += 1
+        body = self._body
+        return float(body[0]), float(body[1]), float(body[5])

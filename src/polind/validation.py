@@ -1,0 +1,94 @@
+"""Checks on single numbers with the project's one message template (bottom layer).
+
+Shared by the model tables (:mod:`polind.models.params`) and the contact
+mechanics (:mod:`polind.contact`), which sits below the models and so cannot
+import from them.  Every failure raises :class:`~polind.errors.InputError`
+with one message form, e.g. ``The 'surface.height_std' parameter of pol-ind
+must be positive. Got 0.0 instead.``
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from polind.errors import InputError, describe
+
+__all__ = ["check_number"]
+
+_BOUNDS = {
+    "positive": (lambda x: x > 0.0, "positive"),
+    "nonnegative": (lambda x: x >= 0.0, "non-negative"),
+    "any": (lambda x: True, "finite"),
+    # Outside (-1, 0.5] the elastic energy of an isotropic solid is not positive.
+    "poisson": (lambda x: -1.0 < x <= 0.5, "in the range (-1, 0.5]"),
+    "fraction": (lambda x: 0.0 < x <= 1.0, "in the range (0, 1]"),
+}
+
+
+@dataclass
+class _Context:
+    model_type: str
+    prefix: str = ""
+
+    def name(self, key):
+        return f"{self.prefix}{key}"
+
+    def fail(self, key, expected, value, where=""):
+        raise InputError(f"The '{self.name(key)}' parameter of {self.model_type} must be "
+                         f"{expected}. Got {describe(value)}{where} instead.")
+
+
+@dataclass(frozen=True)
+class _Bounded:
+    """A key and its bound: what :func:`_check_bound` reads of a ``Param``."""
+
+    key: str
+    bound: str = "positive"
+
+
+def _number(ctx, key, value, integer=False, index=None):
+    where = "" if index is None else f" at index {index}"
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        ctx.fail(key, "an integer" if integer else "a number", value, where)
+    if integer and not float(value).is_integer():
+        ctx.fail(key, "an integer", value, where)
+    number = float(value)
+    if not math.isfinite(number):
+        ctx.fail(key, "finite", value, where)
+    return number
+
+
+def _check_bound(ctx, param, number, index=None):
+    """``param`` has a ``key`` and a ``bound`` (a key of ``_BOUNDS``): a ``Param`` or ``_Bounded``."""
+    test, text = _BOUNDS[param.bound]
+    if not test(number):
+        where = "" if index is None else f" at index {index}"
+        ctx.fail(param.key, text, number, where)
+
+
+def check_number(owner, key, value, bound="any", *, integer=False, maximum=None):
+    """One number checked with the message template of this module.
+
+    For code outside a model table (the contact mechanics' public
+    functions): ``key`` is named as given, ``bound`` is one of the bounds of
+    :class:`polind.models.params.Param` (``"positive"``, ``"nonnegative"``,
+    ``"any"``, ``"poisson"``, ``"fraction"``); an integer may have an upper
+    ``maximum``.
+
+    >>> check_number("pol-ind", "normal_load", 2, "positive")
+    2.0
+    >>> check_number("pol-ind", "surface.height_std", 0.0, "positive")
+    Traceback (most recent call last):
+    ...
+    polind.errors.InputError: The 'surface.height_std' parameter of pol-ind must be positive. Got 0.0 instead.
+    """
+    ctx = _Context(owner)
+    number = _number(ctx, key, value, integer=integer)
+    number = int(number) if integer else number
+    _check_bound(ctx, _Bounded(key, bound=bound), number)
+    if maximum is not None and number > maximum:
+        ctx.fail(key, f"at most {maximum}", value)
+    return int(number) if integer else number
