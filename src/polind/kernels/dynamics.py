@@ -239,7 +239,7 @@ def rounded_motion(position, step, velocity):
     return new_position, new_position - position
 
 
-@jit(inline="always")
+@jit(fastmath=False)
 def body_step(step_function, tangent_function, memoryless, rest_capacity, force_scale,
               scalars, table, state, scratch, method, mass, drive_stiffness, step, external,
               position, velocity, previous_velocity, previous_step_velocity, history,
@@ -253,6 +253,11 @@ def body_step(step_function, tangent_function, memoryless, rest_capacity, force_
     BDF2 step may use them.  ``state`` is committed in place.
 
     Returns ``(x, v, F, step_velocity, history)`` at the end of the step.
+
+    Compiled once, without fast-math, and called (not inlined) by both
+    :func:`integrate_system` and :func:`advance_body`: a fused multiply-add
+    that one caller's optimiser forms and the other's does not would make a
+    :class:`polind.Body` differ from ``simulate_system`` in the last bits.
     """
     if method == BDF2 and history:
         # v_{n+1} = (3 w - w_n) / 2 and m (3 v_{n+1} - 4 v_n + v_{n-1}) / 2h = ...
