@@ -73,22 +73,28 @@ __all__ = ["FitResult", "identify", "parse_fit", "identify_maxwell_slip", "ident
            "identify_stribeck", "plot_fit", "DEFAULT_FREE"]
 
 #: The keys :func:`identify` frees when given a bare model and no ``free``.
-DEFAULT_FREE = {
-    "coulomb": ("coulomb_force",),
-    "stribeck": ("coulomb_force", "static_force", "stribeck_velocity"),
-    "dahl": ("stiffness", "coulomb_force"),
-    "lugre": ("bristle_stiffness", "coulomb_force", "static_force", "stribeck_velocity"),
-    "maxwell-slip": ("stiffness", "breakaway_force"),
-    "gms": ("stiffness", "attraction", "coulomb_force", "static_force", "stribeck_velocity"),
-    "leuven": ("stiffness", "coulomb_force", "static_force", "stribeck_velocity"),
-    "pol-ind": ("static_coefficient", "kinetic_coefficient", "stribeck_velocity", "attraction",
-                "surface.height_std"),
-}
+class _DefaultFree(Mapping):
+    """The keys each registered model type frees by default (its ``fit_defaults``)."""
+
+    def __getitem__(self, model_type):
+        from polind.models import MODEL_TYPES
+        defaults = MODEL_TYPES[model_type].fit_defaults
+        if not defaults:
+            raise KeyError(model_type)
+        return tuple(defaults)
+
+    def __iter__(self):
+        from polind.models import MODEL_TYPES
+        return iter([name for name, cls in MODEL_TYPES.items() if cls.fit_defaults])
+
+    def __len__(self):
+        return sum(1 for _ in self)
+
+
+DEFAULT_FREE = _DefaultFree()
 
 _FIT_KEYS = ("free", "bounds", "result")
 _DATA_KEYS = ("t", "x", "v", "F", "normal_load")
-# Keys kept positive and summing to 1 by the softmax mapping.
-_SIMPLEX_KEYS = {"weight"}
 # Linear bounds for the bounded kinds, kept strictly inside the open ends.
 _KIND_BOUNDS = {
     "positive": (0.0, math.inf),
@@ -321,10 +327,7 @@ def _free_keys(model: FrictionModel, free) -> list[str]:
                              f"{what.get(declaration.kind, declaration.kind)}, not a continuous "
                              "parameter; only numbers and lists of numbers can be identified.")
         keys.append(key)
-    if model.type == "leuven" and {"breakaway_force", "static_force"} <= set(keys):
-        raise InputError("The free keys 'breakaway_force' and 'static_force' of leuven cannot "
-                         "both be free: the break-away forces must sum to the static force; "
-                         "free one of them.")
+    model.check_free_keys(keys)
     return keys
 
 
@@ -358,7 +361,7 @@ def _bounds(model: FrictionModel, keys: list[str], bounds) -> dict[str, tuple[fl
         if key not in keys:
             raise InputError(f"The bounds key '{key}' in [fit.bounds] is not a free key; "
                              f"free keys: {', '.join(keys)}.")
-        if key in _SIMPLEX_KEYS:
+        if key in model.simplex_keys:
             raise InputError(f"The bounds key '{key}' in [fit.bounds] takes no bounds: the "
                              "weights are kept positive and summing to 1 by construction.")
     pairs = {key: _pair(key, value) for key, value in flat.items()}
@@ -389,7 +392,7 @@ def _build_free(model: FrictionModel, keys, bounds, data: _Data) -> list[_Free]:
         low, high = _KIND_BOUNDS[declaration.bound]
         if key in bounds:
             low, high = max(low, bounds[key][0]), min(high, bounds[key][1])
-        if key in _SIMPLEX_KEYS and model.type in ("gms",):
+        if key in model.simplex_keys:
             mapping = "simplex"
         elif declaration.bound == "positive":
             mapping = "log"
@@ -409,23 +412,13 @@ def _split(frees: list[_Free], u: np.ndarray) -> list[np.ndarray]:
     return out
 
 
-def _couple(model_type: str, params: dict, keys: list[str], start: dict) -> None:
-    """Keep rules that span parameters true while some of them move (Leuven's sum)."""
-    if model_type == "leuven":
-        if "breakaway_force" in keys:
-            params["static_force"] = math.fsum(params["breakaway_force"])
-        elif "static_force" in keys:
-            ratio = params["static_force"] / start["static_force"]
-            params["breakaway_force"] = [w * ratio for w in start["breakaway_force"]]
-
-
 def _model_at(model: FrictionModel, frees: list[_Free], u: np.ndarray) -> FrictionModel:
     start = model.params
     params = model.params
     for free, part in zip(frees, _split(frees, u)):
         _set(params, free.key, free.output(free.physical(part)))
-    _couple(model.type, params, [free.key for free in frees], start)
-    return model_from_dict({"model": {"type": model.type, **params}})
+    model.couple_fit(params, [free.key for free in frees], start)
+    return type(model)(**params)
 
 
 # --- the result -----------------------------------------------------------------------------

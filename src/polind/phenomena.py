@@ -69,8 +69,6 @@ __all__ = [
 PHENOMENA = ("stribeck", "presliding_memory", "frictional_lag", "non_drifting", "stick_slip",
              "breakaway")
 
-_STRIBECK_TYPES = ("stribeck", "lugre", "gms", "leuven", "pol-ind")
-_ELEMENT_TYPES = ("maxwell-slip", "gms", "leuven", "pol-ind")
 
 
 # --- the model's own scales ---------------------------------------------------------------
@@ -110,6 +108,12 @@ class FrictionLevels:
     relaxation_length : float or None
         [m] of the Leuven model: its state follows a velocity change within
         about a presliding range of sliding, in ``relaxation_length / |v|``.
+    credited : frozenset of str
+        The phenomena the model class is credited with beyond what its scales
+        imply (:attr:`polind.FrictionModel.phenomena`).
+
+    Each model supplies these through its ``characteristic_scales``; nothing
+    here knows which model it is.
     """
 
     model_type: str
@@ -124,6 +128,7 @@ class FrictionLevels:
     bristle_stiffness: float | None = None
     relaxation_rate: float | None = None
     relaxation_length: float | None = None
+    credited: frozenset = frozenset()
 
     def stribeck(self, v):
         """g(v) [N], the steady-sliding magnitude without the viscous term."""
@@ -154,17 +159,6 @@ class FrictionLevels:
         return self.stribeck_velocity is not None and self.static_force > self.coulomb_force
 
 
-def _elements(kind, p):
-    """Stiffness k_i [N/m] and capacity W_i [N] of an element model's elements.
-
-    ``p``: the model's parameters (for pol-ind, those of the GMS it equals).
-    """
-    stiffness = np.asarray(p["stiffness"], dtype=np.float64)
-    if kind in ("gms", "pol-ind"):
-        return stiffness, np.asarray(p["weight"], dtype=np.float64) * p["static_force"]
-    return stiffness, np.asarray(p["breakaway_force"], dtype=np.float64)
-
-
 def friction_levels(model) -> FrictionLevels:
     """The force, velocity, length and time scales of a friction model.
 
@@ -185,51 +179,12 @@ def friction_levels(model) -> FrictionLevels:
     >>> levels.static_force, levels.presliding_range
     (3.0, 2e-05)
     """
-    kind = model.type
-    # At its constant load Pol-Ind is a GMS (MODELS.md 7.6): read its levels as one.
-    p = model.gms_parameters() if kind == "pol-ind" else model.params
-    viscous = float(p.get("viscous_coefficient", 0.0))
-    curve = {"stribeck_velocity": None, "stribeck_exponent": 2.0,
-             "stribeck_shape": "exponential"}
-    if kind in _STRIBECK_TYPES:
-        static, coulomb = p["static_force"], p["coulomb_force"]
-    elif kind == "maxwell-slip":
-        static = coulomb = math.fsum(p["breakaway_force"])
-    else:                                   # coulomb, dahl
-        static = coulomb = p["coulomb_force"]
-    if kind in _STRIBECK_TYPES:
-        curve = {key: p[key] for key in curve}
-    extra = {}
-    if kind in _ELEMENT_TYPES:
-        stiffness, capacity = _elements(kind, p)
-        presliding = float(np.max(capacity / stiffness))
-        slope = float(np.sum(stiffness))
-        if kind in ("gms", "pol-ind"):
-            extra["relaxation_rate"] = p["attraction"] * float(np.sum(capacity)) / float(
-                np.max(capacity))
-        elif kind == "leuven":
-            extra["relaxation_length"] = presliding
-    elif kind == "lugre":
-        presliding = static / p["bristle_stiffness"]
-        slope = p["bristle_stiffness"]
-        extra["bristle_stiffness"] = p["bristle_stiffness"]
-    elif kind == "dahl":
-        presliding = coulomb / p["stiffness"]
-        slope = p["stiffness"]
-    else:
-        presliding = slope = 0.0
-    return FrictionLevels(kind, float(static), float(coulomb), viscous_coefficient=viscous,
-                          presliding_range=presliding, presliding_stiffness=slope, **curve,
-                          **extra)
-
-
-#: The models MODELS.md 7.7 credits with non-local memory and with shaking down.
-_MEMORY_TYPES = ("maxwell-slip", "gms", "pol-ind")
-#: ... and with frictional lag (a force that follows the velocity with a delay).
-_LAG_TYPES = ("lugre", "gms", "pol-ind", "leuven")
-#: Models whose body, below break-away, does not move at all: the Maxwell-slip family
-#: shakes down, and a memoryless model holds the body exactly (its static friction).
-_NON_DRIFTING_TYPES = _MEMORY_TYPES + ("coulomb", "stribeck")
+    scales = model.characteristic_scales()
+    if scales is None:
+        raise InputError(f"The {model.type} model declares no characteristic scales "
+                         f"(FrictionModel.characteristic_scales), so the phenomena "
+                         f"experiments cannot be sized for it.")
+    return FrictionLevels(model.type, credited=frozenset(model.phenomena), **scales)
 
 
 def _expected(phenomenon: str, levels: FrictionLevels) -> bool:
@@ -239,15 +194,12 @@ def _expected(phenomenon: str, levels: FrictionLevels) -> bool:
     frictional lag needs a lag and a sloped curve for it to show on.  Every
     model breaks away near its static level when the force rises slowly.
     """
-    kind = levels.model_type
     if phenomenon in ("stribeck", "stick_slip"):
         return levels.has_stribeck_dip
-    if phenomenon == "presliding_memory":
-        return kind in _MEMORY_TYPES
     if phenomenon == "frictional_lag":
-        return kind in _LAG_TYPES and levels.has_stribeck_dip
-    if phenomenon == "non_drifting":
-        return kind in _NON_DRIFTING_TYPES
+        return phenomenon in levels.credited and levels.has_stribeck_dip
+    if phenomenon in ("presliding_memory", "non_drifting"):
+        return phenomenon in levels.credited
     return True
 
 

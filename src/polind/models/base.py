@@ -149,6 +149,38 @@ class State:
         return cls.from_dict(json.loads(text))
 
 
+def scales(static_force, coulomb_force, viscous_coefficient=0.0, curve=None,
+           presliding_range=0.0, presliding_stiffness=0.0, **extra) -> dict:
+    """The characteristic scales of a model (see :meth:`FrictionModel.characteristic_scales`).
+
+    ``static_force`` and ``coulomb_force`` [N] (the break-away and sliding
+    levels), ``viscous_coefficient`` [N s/m], ``curve`` (a parameter dict
+    with the Stribeck velocity, exponent and shape, or None without a
+    Stribeck curve), ``presliding_range`` [m] and ``presliding_stiffness``
+    [N/m]; ``extra`` may give ``bristle_stiffness`` [N/m],
+    ``relaxation_rate`` [N/s] or ``relaxation_length`` [m] (how fast the
+    force follows a velocity change).
+    """
+    out = {"static_force": float(static_force), "coulomb_force": float(coulomb_force),
+           "viscous_coefficient": float(viscous_coefficient),
+           "stribeck_velocity": None, "stribeck_exponent": 2.0,
+           "stribeck_shape": "exponential",
+           "presliding_range": float(presliding_range),
+           "presliding_stiffness": float(presliding_stiffness)}
+    if curve is not None:
+        out.update({key: curve[key] for key in ("stribeck_velocity", "stribeck_exponent",
+                                                "stribeck_shape")})
+    out.update({key: float(value) for key, value in extra.items()})
+    return out
+
+
+def element_scales(stiffness, capacity) -> tuple:
+    """``(presliding_range, presliding_stiffness)`` of elements in parallel: max W/k, sum k."""
+    stiffness = np.asarray(stiffness, dtype=np.float64)
+    capacity = np.asarray(capacity, dtype=np.float64)
+    return float(np.max(capacity / stiffness)), float(np.sum(stiffness))
+
+
 @dataclass(frozen=True)
 class StepFunctions:
     """A model's numba functions of the stepping contract (:mod:`polind.kernels.contract`).
@@ -251,6 +283,15 @@ class FrictionModel:
     parameters: ClassVar[tuple] = ()
     takes_normal_load: ClassVar[bool] = False
     state_keys: ClassVar[tuple | None] = None
+    #: The phenomena of MODELS.md 7.7 the model is credited with beyond those
+    #: that follow from its scales (a Stribeck dip gives the Stribeck effect and
+    #: stick-slip, every model breaks away): any of "presliding_memory",
+    #: "frictional_lag" (shown where the curve has a dip), "non_drifting".
+    phenomena: ClassVar[frozenset] = frozenset()
+    #: The keys :func:`polind.identify` frees when none are named.
+    fit_defaults: ClassVar[tuple] = ()
+    #: List keys kept positive and summing to 1 while fitted (GMS weights).
+    simplex_keys: ClassVar[tuple] = ()
 
     def __init__(self, **params):
         clean = validate_table(self.type, self.parameters, params)
@@ -312,6 +353,22 @@ class FrictionModel:
     def rest_capacity(self) -> float | None:
         """Memoryless models: the largest force held at rest (``g(0)``); else None."""
         return None
+
+    def characteristic_scales(self) -> dict | None:
+        """The force, velocity and length scales the phenomena experiments are sized by.
+
+        A dict as :func:`scales` builds it, or None: a model that declares no
+        scales cannot be run through the phenomena (they say so).
+        """
+        return None
+
+    @classmethod
+    def check_free_keys(cls, keys: list) -> None:
+        """Refuse a set of free keys that cannot be fitted together (InputError)."""
+
+    @classmethod
+    def couple_fit(cls, params: dict, keys: list, start: dict) -> None:
+        """Keep rules across parameters true while the free ``keys`` move (in place)."""
 
     def load_bounds(self, state: State) -> tuple | None:
         """``(low, high)``: the normal loads [N] a run from ``state`` may use (None: no load)."""

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from polind.models.base import FrictionModel, StepFunctions, register
+from polind.models.base import FrictionModel, StepFunctions, register, scales
 from polind.models.params import Param
 
 
@@ -34,6 +34,13 @@ class Dahl(FrictionModel):
         Param("coulomb_force", unit="N"),
         Param("exponent", bound="nonnegative", default=1.0),
     )
+    fit_defaults = ("stiffness", "coulomb_force")
+
+    def characteristic_scales(self):
+        p = self._params
+        return scales(p["coulomb_force"], p["coulomb_force"],
+                      presliding_range=p["coulomb_force"] / p["stiffness"],
+                      presliding_stiffness=p["stiffness"])
 
     def initial_variables(self, normal_load=None):
         return {"friction": np.zeros(1)}

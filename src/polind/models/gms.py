@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from polind.models.base import FrictionModel, StepFunctions, register
+from polind.models.base import FrictionModel, StepFunctions, element_scales, register, scales
 from polind.models.params import Param, STRIBECK_PARAMS, VISCOUS, same_length, sums_to
 
 
@@ -39,6 +39,13 @@ class GMS(FrictionModel):
         Param("weight", kind="list"),
         Param("attraction", unit="N/s"),
     ) + STRIBECK_PARAMS + (VISCOUS,)
+    phenomena = frozenset({"presliding_memory", "frictional_lag", "non_drifting"})
+    fit_defaults = ("stiffness", "attraction", "coulomb_force", "static_force",
+                    "stribeck_velocity")
+    simplex_keys = ("weight",)
+
+    def characteristic_scales(self):
+        return gms_scales(self._params)
 
     @classmethod
     def _check(cls, params):
@@ -60,6 +67,17 @@ class GMS(FrictionModel):
 
     def force_scale(self):
         return max(self._params["coulomb_force"], self._params["static_force"])
+
+
+def gms_scales(params):
+    """The characteristic scales of a GMS parameter set (GMS and Pol-Ind at its load)."""
+    capacity = np.asarray(params["weight"], dtype=np.float64) * params["static_force"]
+    presliding, slope = element_scales(params["stiffness"], capacity)
+    return scales(params["static_force"], params["coulomb_force"],
+                  params["viscous_coefficient"], curve=params, presliding_range=presliding,
+                  presliding_stiffness=slope,
+                  relaxation_rate=params["attraction"] * float(np.sum(capacity))
+                  / float(np.max(capacity)))
 
 
 def gms_arrays(params, stiffness, weight):

@@ -2,9 +2,12 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-from polind.models.base import FrictionModel, StepFunctions, register
+from polind.models.base import FrictionModel, StepFunctions, element_scales, register, scales
+from polind.errors import InputError
 from polind.models.params import Param, STRIBECK_PARAMS, VISCOUS, same_length, sums_to
 
 
@@ -54,6 +57,31 @@ class Leuven(FrictionModel):
         Param("bristle_damping", bound="nonnegative", unit="N s/m"),
         VISCOUS,
     ) + STRIBECK_PARAMS
+    phenomena = frozenset({"frictional_lag"})
+    fit_defaults = ("stiffness", "coulomb_force", "static_force", "stribeck_velocity")
+
+    def characteristic_scales(self):
+        p = self._params
+        presliding, slope = element_scales(p["stiffness"], p["breakaway_force"])
+        return scales(p["static_force"], p["coulomb_force"], p["viscous_coefficient"], curve=p,
+                      presliding_range=presliding, presliding_stiffness=slope,
+                      relaxation_length=presliding)
+
+    @classmethod
+    def check_free_keys(cls, keys):
+        if {"breakaway_force", "static_force"} <= set(keys):
+            raise InputError("The free keys 'breakaway_force' and 'static_force' of leuven "
+                             "cannot both be free: the break-away forces must sum to the static "
+                             "force; free one of them.")
+
+    @classmethod
+    def couple_fit(cls, params, keys, start):
+        # The break-away forces sum to Fs (MODELS.md 6): move the other with the free one.
+        if "breakaway_force" in keys:
+            params["static_force"] = math.fsum(params["breakaway_force"])
+        elif "static_force" in keys:
+            ratio = params["static_force"] / start["static_force"]
+            params["breakaway_force"] = [w * ratio for w in start["breakaway_force"]]
 
     @classmethod
     def _check(cls, params):

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from polind.models.base import FrictionModel, StepFunctions, register
+from polind.models.base import FrictionModel, StepFunctions, register, scales
 from polind.models.params import Param, STRIBECK_PARAMS, VISCOUS
 
 
@@ -47,6 +47,15 @@ class LuGre(FrictionModel):
         Param("bristle_damping", bound="nonnegative", unit="N s/m"),
         VISCOUS,
     ) + STRIBECK_PARAMS
+    phenomena = frozenset({"frictional_lag"})
+    fit_defaults = ("bristle_stiffness", "coulomb_force", "static_force", "stribeck_velocity")
+
+    def characteristic_scales(self):
+        p = self._params
+        return scales(p["static_force"], p["coulomb_force"], p["viscous_coefficient"], curve=p,
+                      presliding_range=p["static_force"] / p["bristle_stiffness"],
+                      presliding_stiffness=p["bristle_stiffness"],
+                      bristle_stiffness=p["bristle_stiffness"])
 
     def initial_variables(self, normal_load=None):
         return {"deflection": np.zeros(1)}

@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-from polind.models.base import FrictionModel, StepFunctions, register
+from polind.models.base import FrictionModel, StepFunctions, element_scales, register, scales
 from polind.models.params import Param, VISCOUS, same_length
 
 
@@ -48,6 +50,15 @@ class MaxwellSlip(FrictionModel):
         Param("breakaway_force", kind="list", unit="N"),
         VISCOUS,
     )
+    phenomena = frozenset({"presliding_memory", "non_drifting"})
+    fit_defaults = ("stiffness", "breakaway_force")
+
+    def characteristic_scales(self):
+        p = self._params
+        level = math.fsum(p["breakaway_force"])
+        presliding, slope = element_scales(p["stiffness"], p["breakaway_force"])
+        return scales(level, level, p["viscous_coefficient"], presliding_range=presliding,
+                      presliding_stiffness=slope)
 
     @classmethod
     def _check(cls, params):

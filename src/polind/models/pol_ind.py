@@ -35,7 +35,7 @@ import numpy as np
 
 from polind.errors import InputError
 from polind.models.base import FrictionModel, StepFunctions, register
-from polind.models.gms import gms_arrays
+from polind.models.gms import gms_arrays, gms_scales
 from polind.models.params import Param, Table, VISCOUS
 
 _SURFACE = Table("surface", (
@@ -126,6 +126,9 @@ class PolInd(FrictionModel):
 
     type = "pol-ind"
     takes_normal_load = True
+    phenomena = frozenset({"presliding_memory", "frictional_lag", "non_drifting"})
+    fit_defaults = ("static_coefficient", "kinetic_coefficient", "stribeck_velocity",
+                    "attraction", "surface.height_std")
     state_keys = ("element_force", "slip_direction", "element_height", "element_count",
                   "table_load")
     parameters = (
@@ -271,6 +274,10 @@ class PolInd(FrictionModel):
     def _table_rows(self, load):
         gms = self.gms_parameters(load)
         return gms["stiffness"], gms["weight"]
+
+    def characteristic_scales(self):
+        # At its constant load Pol-Ind is a GMS (MODELS.md 7.6): its scales are that GMS's.
+        return gms_scales(self.gms_parameters())
 
     def force_scale(self):
         p = self._params

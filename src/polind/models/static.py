@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from polind.models.base import FrictionModel, StepFunctions, register
+from polind.models.base import FrictionModel, StepFunctions, register, scales
 from polind.models.params import Param, STRIBECK_PARAMS, VISCOUS
 
 
@@ -53,6 +53,11 @@ class Coulomb(FrictionModel):
 
     type = "coulomb"
     parameters = (Param("coulomb_force", unit="N"),)
+    phenomena = frozenset({"non_drifting"})
+    fit_defaults = ("coulomb_force",)
+
+    def characteristic_scales(self):
+        return scales(self._params["coulomb_force"], self._params["coulomb_force"])
 
     def kernel_arrays(self, state):
         force = self._params["coulomb_force"]
@@ -87,6 +92,12 @@ class Stribeck(FrictionModel):
 
     type = "stribeck"
     parameters = STRIBECK_PARAMS + (VISCOUS,)
+    phenomena = frozenset({"non_drifting"})
+    fit_defaults = ("coulomb_force", "static_force", "stribeck_velocity")
+
+    def characteristic_scales(self):
+        p = self._params
+        return scales(p["static_force"], p["coulomb_force"], p["viscous_coefficient"], curve=p)
 
     def kernel_arrays(self, state):
         p = self._params
