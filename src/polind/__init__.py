@@ -6,6 +6,12 @@ The public API (INTERFACE.md)::
     model = polind.load_model("model.toml")      # or polind.model_from_dict({...})
     res = polind.simulate(model, t, x=x)         # or v=v
     res.t, res.x, res.v, res.force
+
+A model as a discrete-time python-control system (optional extra
+``polind[control]``; not imported by ``import polind``)::
+
+    from polind.control import friction_system, initial_state
+    sys = friction_system(model, dt=1e-3)        # input "x" (or "v"), output "F"
 """
 
 from polind.errors import InputError

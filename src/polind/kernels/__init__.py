@@ -23,3 +23,28 @@ def jit(function=None, **overrides):
     if function is None:
         return lambda f: njit(**options)(f)
     return njit(**options)(function)
+
+
+_UNCACHED = {}
+
+
+def for_functions(template, *functions):
+    """``template`` ready to be called with these function arguments.
+
+    numba's on-disk cache keys a compiled version by its argument types, and
+    the type of a function argument refers to the function object itself: a
+    version compiled for a function defined outside polind (a model of the
+    user's own, in a script or a notebook) would be written to polind's
+    cache and fail to load once that function is gone.  For such functions
+    the template is compiled again without the on-disk cache, once per
+    process; polind's own functions use the cached template.
+    """
+    if all(getattr(getattr(f, "py_func", f), "__module__", "").startswith("polind.")
+           for f in functions):
+        return template
+    twin = _UNCACHED.get(template)
+    if twin is None:
+        options = {**JIT_OPTIONS, **template.targetoptions, "cache": False}
+        options.pop("nopython", None)          # implied by njit
+        twin = _UNCACHED[template] = njit(**options)(template.py_func)
+    return twin

@@ -239,7 +239,7 @@ def rounded_motion(position, step, velocity):
     return new_position, new_position - position
 
 
-@jit(fastmath=False)
+@jit(inline="always")
 def body_step(step_function, tangent_function, memoryless, rest_capacity, force_scale,
               scalars, table, state, scratch, method, mass, drive_stiffness, step, external,
               position, velocity, previous_velocity, previous_step_velocity, history,
@@ -254,10 +254,11 @@ def body_step(step_function, tangent_function, memoryless, rest_capacity, force_
 
     Returns ``(x, v, F, step_velocity, history)`` at the end of the step.
 
-    Compiled once, without fast-math, and called (not inlined) by both
-    :func:`integrate_system` and :func:`advance_body`: a fused multiply-add
-    that one caller's optimiser forms and the other's does not would make a
-    :class:`polind.Body` differ from ``simulate_system`` in the last bits.
+    Its callers :func:`integrate_system` and :func:`advance_body` are
+    compiled without fast-math: a fused multiply-add that one caller's
+    optimiser forms and the other's does not would make a :class:`polind.Body`
+    differ from ``simulate_system`` in the last bits.  (The model's own step
+    keeps its flags: it is a function of its own.)
     """
     if method == BDF2 and history:
         # v_{n+1} = (3 w - w_n) / 2 and m (3 v_{n+1} - 4 v_n + v_{n-1}) / 2h = ...
@@ -284,7 +285,7 @@ def body_step(step_function, tangent_function, memoryless, rest_capacity, force_
     return new_position, new_velocity, friction, step_velocity, True
 
 
-@jit
+@jit(fastmath=False)
 def integrate_system(step_function, tangent_function, memoryless, rest_capacity, force_scale,
                      scalars, table, state, t, mass, drive_stiffness, drive_velocity, offset,
                      rate, amplitude, frequency, applied_steps, method, normal_load, x, v,
@@ -336,7 +337,7 @@ def integrate_system(step_function, tangent_function, memoryless, rest_capacity,
     carry[1] = 1.0 if history else 0.0
 
 
-@jit
+@jit(fastmath=False)
 def advance_body(step_function, tangent_function, memoryless, rest_capacity, force_scale,
                  scalars, table, state, scratch, method, mass, step, external, body,
                  normal_load):

@@ -247,8 +247,10 @@ class StepKernel:
             self.path(self.scalars, self.table, self.state, step, displacement, step_velocity,
                       sample_velocity, loads, self.normal_load, lo, hi, first, out_force)
         else:
+            from polind.kernels import for_functions
             from polind.kernels.contract import run_steps_any
-            run_steps_any(self.step, self.force, self.scalars, self.table, self.state, step,
+            run = for_functions(run_steps_any, self.step, self.force)
+            run(self.step, self.force, self.scalars, self.table, self.state, step,
                           displacement, step_velocity, sample_velocity, loads,
                           self.normal_load, lo, hi, first, out_force)
 

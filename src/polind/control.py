@@ -1,0 +1,335 @@
+"""A friction model as a python-control system: :func:`friction_system` (INTERFACE.md).
+
+``polind.control.friction_system(model, dt)`` wraps any polind model (or a
+registered model of your own) as a discrete-time
+:class:`control.NonlinearIOSystem`, to be connected to plants and
+controllers with python-control's ``interconnect``, ``feedback`` and
+``input_output_response``.  Each sample runs the model's own compiled step
+(the stepping contract of :mod:`polind.kernels.contract`) with the
+arithmetic of :func:`polind.simulate` and :class:`polind.Stepper`, so a
+response equals ``simulate``'s on the same samples.
+
+python-control is an optional dependency: ``pip install polind[control]``.
+``import polind`` never imports this module.
+
+The system state
+----------------
+One float64 vector: the model's own state (``model.flat_state``, its
+variables in ``state_keys`` order, named ``"<variable>[<i>]"``), then what a
+step needs besides it:
+
+``position``
+    x [m] at the previous sample (with input ``"v"``: its trapezoidal
+    integral, as ``simulate`` computes it).
+``velocity``
+    v [m/s] at the previous sample (with input ``"x"``: the previous step's
+    velocity).
+``started``
+    0 before the first sample, 1 after: the first sample has no step
+    before it.
+
+:func:`initial_state` builds the vector (a model at rest, or a saved
+:class:`polind.State` to continue from).
+"""
+
+from __future__ import annotations
+
+import math
+from collections import OrderedDict
+
+import numpy as np
+
+try:
+    import control as _ct
+except ImportError as error:    # the optional extra is not installed
+    raise ImportError("polind.control needs python-control: "
+                      "pip install polind[control]") from error
+
+from polind.errors import InputError, describe
+from polind.stepper import _check_model, _LoadCheck, _real, _start_state
+
+__all__ = ["friction_system", "initial_state", "state_names", "CARRIED_STATES"]
+
+#: The states after the model's own, in this order (see the module notes).
+CARRIED_STATES = ("position", "velocity", "started")
+
+INPUTS = ("x", "v")
+
+#: System states whose kernel arrays are remembered (the recent ones suffice:
+#: a response evaluates each state's output and update, then moves on).
+_REMEMBERED = 8
+
+
+def state_names(model) -> list:
+    """The names of the system's states: the model's variables, then :data:`CARRIED_STATES`."""
+    _check_model(model, "state_names")
+    rest = model.initial_state()
+    names = []
+    for key in model._state_keys():
+        size = np.size(rest.variables[key])
+        names.extend(f"{key}[{i}]" for i in range(size))
+    return names + list(CARRIED_STATES)
+
+
+def initial_state(model, state=None, *, position=None, velocity=None) -> np.ndarray:
+    """The system state ``X0`` to start a :func:`friction_system` response from.
+
+    Parameters
+    ----------
+    model : FrictionModel
+        The model the system was built for.
+    state : State, optional
+        Continue from a saved state (a ``simulate`` result's
+        ``final_state``).  The state's sample is then the one *before* the
+        response's first sample: the system's output at its sample ``k``
+        equals ``simulate(model, t, ..., state=state).force[k + 1]`` for
+        ``t = state.time + dt * arange(n + 1)`` (the chunk that repeats the
+        state's sample first).
+    position : float, optional
+        Without ``state``: the starting position [m] (default 0).  It
+        matters with input ``"v"`` only (the start of the integrated
+        position); with ``"x"`` the first input sample is the position.
+    velocity : float, optional
+        Without ``state``: the velocity [m/s] at the first sample (default
+        0).  With input ``"x"`` the output at sample 0 is the model's force
+        at rest at this velocity: pass ``(x[1] - x[0]) / dt`` to get
+        ``simulate``'s (which reports the first step's velocity there).
+
+    Returns
+    -------
+    ndarray
+        float64, ``len(state_names(model))`` entries (see the module notes).
+
+    Examples
+    --------
+    >>> import polind
+    >>> from polind.control import initial_state
+    >>> model = polind.model_from_dict({"model": {"type": "dahl", "stiffness": 1e5,
+    ...                                           "coulomb_force": 1.0}})
+    >>> initial_state(model).tolist()    # friction, position, velocity, started
+    [0.0, 0.0, 0.0, 0.0]
+    """
+    _check_model(model, "initial_state")
+    if state is not None:
+        if position is not None or velocity is not None:
+            raise InputError("Give initial_state either a 'state' or 'position'/'velocity', "
+                             "not both: a state carries its own.")
+        flat = model.flat_state(_start_state(model, state, "initial_state"))
+        expected = model.flat_state(model.initial_state()).shape[0]
+        if flat.shape[0] != expected:
+            raise InputError(f"The state of the {model.type} model has {flat.shape[0]} entries; "
+                             f"its friction_system has {expected}.")
+        carried = (state.position, state.velocity, 1.0)
+    else:
+        flat = model.flat_state(model.initial_state())
+        carried = (0.0 if position is None else _real("position", position, "initial_state"),
+                   0.0 if velocity is None else _real("velocity", velocity, "initial_state"),
+                   0.0)
+    return np.concatenate((np.asarray(flat, dtype=np.float64), np.array(carried, dtype=float)))
+
+
+def friction_system(model, dt, input="x", *, name=None):
+    """The friction model as a discrete-time python-control ``NonlinearIOSystem``.
+
+    Parameters
+    ----------
+    model : FrictionModel
+        Any polind model (``load_model``, ``model_from_dict``, or a
+        registered model of your own); never mutated.
+    dt : float
+        The sampling time [s], positive and finite: every step lasts ``dt``.
+    input : {"x", "v"}, default "x"
+        The motion input: position x [m] (linear path between samples, step
+        velocity ``(x[k] - x[k-1]) / dt``) or velocity v [m/s] (each step at
+        the mean of its end velocities, position its trapezoidal integral),
+        as in :func:`polind.simulate`.
+    name : str, optional
+        The system's name in python-control (for ``interconnect``).
+
+    Returns
+    -------
+    control.NonlinearIOSystem
+        Inputs ``[input]``, plus ``"normal_load"`` [N] for a model that uses
+        a normal load (``model.takes_normal_load``: each sample's load, at
+        most the model's own ``normal_load``, within the surface's range);
+        output ``"F"``, the friction force [N]; states as
+        :func:`state_names` (the model's state, then ``position``,
+        ``velocity``, ``started``), ``X0`` from :func:`initial_state`.
+
+    Notes
+    -----
+    *Timing.*  The output at sample ``k`` is the force after the step that
+    ends at sample ``k``, so it depends on that sample's input: the system
+    has direct feedthrough (in a feedback loop, the plant's output must not
+    depend on its input at the same sample).  The state update takes the
+    same step.  ``control.input_output_response(sys, T, U, X0)`` with
+    ``T = t0 + dt * arange(n)`` gives ``simulate(model, T, x=U)``'s forces
+    (or ``v=U``; ``normal_load=`` the load row) to 1e-12 relative, sample 0
+    with input ``"x"`` aside (below).  Every step lasts ``dt``, where
+    ``simulate`` takes the differences of ``T``: they agree to rounding.
+
+    *Sample 0.*  Started from a model at rest (``started = 0``), the first
+    output is the model's force at its state at a velocity, and no step is
+    taken: with input ``"v"`` at ``v[0]``, ``simulate``'s force exactly;
+    with input ``"x"`` at the ``velocity`` of ``X0`` (default 0), where
+    ``simulate`` reports the first step's velocity, which a causal system
+    cannot know.  A model whose force at rest does not depend on the
+    velocity (Dahl, Maxwell-slip or GMS without viscous term) gives the
+    same force; otherwise pass ``initial_state(model, velocity=(x[1] -
+    x[0]) / dt)`` for ``simulate``'s.
+
+    *Normal load.*  The model's kernel is laid out for its own normal load
+    (a Pol-Ind element table; or for the table load of the state ``X0``
+    comes from), the largest a sample may take.  ``simulate`` with a
+    ``normal_load`` array lays it out for the array's largest load: the two
+    agree when that is the model's load.
+
+    *Warm start.*  A model's kernel may keep work that is not part of its
+    state (Pol-Ind keeps the separation of the last normal load, the start
+    of the next solve).  The system remembers it for the states it has
+    produced itself, so a response equals ``simulate`` run at once; from
+    any other state (``X0``, a perturbed state) the kernel starts as
+    ``simulate`` continuing from a saved state does, equal to 1e-10.
+
+    Examples
+    --------
+    >>> import numpy as np, control, polind
+    >>> from polind.control import friction_system, initial_state
+    >>> model = polind.model_from_dict({"model": {"type": "dahl", "stiffness": 1e5,
+    ...                                           "coulomb_force": 1.0}})
+    >>> sys = friction_system(model, dt=1e-3)
+    >>> T = 1e-3 * np.arange(101)
+    >>> resp = control.input_output_response(sys, T, 1e-4 * T, initial_state(model))
+    >>> force = polind.simulate(model, T, x=1e-4 * T).force
+    >>> bool(np.allclose(resp.outputs, force, rtol=1e-12, atol=0.0))
+    True
+    """
+    _check_model(model, "friction_system")
+    if isinstance(dt, bool) or not isinstance(dt, (int, float, np.integer, np.floating)) \
+            or not (math.isfinite(float(dt)) and float(dt) > 0.0):
+        raise InputError(f"The 'dt' of friction_system must be a positive finite number "
+                         f"(the sampling time, s). Got {describe(dt)} instead.")
+    if not isinstance(input, str) or input not in INPUTS:
+        raise InputError(f"The 'input' of friction_system must be 'x' (position) or 'v' "
+                         f"(velocity). Got {describe(input)} instead.")
+    step = _SampleStep(model, float(dt), input)
+    inputs = [input] + (["normal_load"] if model.takes_normal_load else [])
+    return _ct.NonlinearIOSystem(step.update, step.output, inputs=inputs, outputs=["F"],
+                                 states=state_names(model), dt=float(dt), name=name)
+
+
+class _KernelArrays:
+    """The kernel arrays (``scalars``, ``table``) at one system state, and its load check."""
+
+    __slots__ = ("scalars", "table", "check_load")
+
+    def __init__(self, scalars, table, check_load):
+        self.scalars, self.table, self.check_load = scalars, table, check_load
+
+
+class _SampleStep:
+    """One sample of the system: the update and the output, from the same step.
+
+    Both are pure functions of ``(state, input)`` (the system's contract):
+    every call steps copies of the arrays.  Two small memories make them
+    cheap and exact: the last result (a response asks for the output and the
+    update of the same state and input in turn), and the kernel arrays of
+    the states this system produced (their warm start, see
+    :func:`friction_system`).
+    """
+
+    def __init__(self, model, dt, mode):
+        self.model = model
+        self.dt = dt
+        self.by_position = mode == "x"
+        self.mode = mode
+        self.template = model.initial_state()
+        functions = model.step_functions()
+        self.step = functions.step
+        self.force = functions.force
+        self.size = model.flat_state(self.template).shape[0]
+        self.constant_load = float(model.constant_load)
+        self.takes_load = bool(model.takes_normal_load)
+        self.arrays = OrderedDict()
+        self.last_key = None
+        self.last = None
+
+    # --- python-control's callbacks ------------------------------------------------------
+
+    def update(self, t, xs, u, params=None):
+        return self.advance(xs, u)[0].copy()
+
+    def output(self, t, xs, u, params=None):
+        return np.array([self.advance(xs, u)[1]])
+
+    # --- the step -------------------------------------------------------------------------
+
+    def _arrays_for(self, xs, key):
+        """Copies of the kernel arrays at system state ``xs`` (remembered, else built)."""
+        known = self.arrays.get(key)
+        if known is None:
+            state = self.template.copy()
+            self.model.unflatten_state(xs[:self.size], state)
+            kernel = self.model.step_kernel(state)
+            check = _LoadCheck(self.model, state, "friction_system") if self.takes_load \
+                else None
+            known = _KernelArrays(kernel.scalars, kernel.table, check)
+            self._remember(key, known)
+        return known.scalars.copy(), known.table.copy(), known.check_load
+
+    def _remember(self, key, arrays):
+        self.arrays[key] = arrays
+        self.arrays.move_to_end(key)
+        while len(self.arrays) > _REMEMBERED:
+            self.arrays.popitem(last=False)
+
+    def advance(self, xs, u):
+        """``(next system state, force)`` for system state ``xs`` and input ``u``."""
+        xs = np.ascontiguousarray(xs, dtype=np.float64)
+        u = np.ascontiguousarray(u, dtype=np.float64)
+        key = xs.tobytes()
+        if self.last_key is not None and self.last_key[0] == key \
+                and self.last_key[1] == u.tobytes():
+            return self.last
+        if xs.shape[0] != self.size + len(CARRIED_STATES):
+            raise InputError(f"The state of this friction_system has "
+                             f"{self.size + len(CARRIED_STATES)} entries. Got {xs.shape[0]}.")
+        motion = float(u[0])
+        if not math.isfinite(motion):
+            raise InputError(f"The '{self.mode}' input of friction_system must be finite. "
+                             f"Got {motion!r} instead.")
+        scalars, table, check_load = self._arrays_for(xs, key)
+        load = check_load(float(u[1])) if self.takes_load else self.constant_load
+        flat = xs[:self.size].copy()
+        position, velocity, started = (float(value) for value in xs[self.size:])
+        if started == 0.0:
+            # The first sample: no step before it, the force at the state.
+            if not self.by_position:
+                velocity = motion
+            force = self.force(scalars, table, flat, velocity, load)
+            if self.by_position:
+                position = motion
+        elif self.by_position:
+            displacement = motion - position
+            step_velocity = displacement / self.dt
+            if not math.isfinite(step_velocity):
+                raise InputError(f"The 'x' input of friction_system must give a finite step "
+                                 f"velocity. Got x = {motion!r} after {position!r}.")
+            force = self.step(scalars, table, flat, self.dt, displacement, step_velocity,
+                              step_velocity, load)
+            position, velocity = motion, step_velocity
+        else:
+            step_velocity = 0.5 * (velocity + motion)
+            displacement = step_velocity * self.dt
+            position = position + displacement
+            if not math.isfinite(position):
+                raise InputError(f"The 'v' input of friction_system must give a finite "
+                                 f"position. Got v = {motion!r} at position {position!r}.")
+            force = self.step(scalars, table, flat, self.dt, displacement, step_velocity,
+                              motion, load)
+            velocity = motion
+        following = np.concatenate((flat, (position, velocity, 1.0)))
+        self._remember(following.tobytes(), _KernelArrays(scalars, table, check_load))
+        self.last_key = (key, u.tobytes())
+        self.last = (following, float(force))
+        return self.last
