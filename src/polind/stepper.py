@@ -360,7 +360,13 @@ class Body:
             raise InputError(f"The 'applied_force' of Body.step must be finite. "
                              f"Got {applied_force!r} instead.")
         kernel = self._kernel
-        load = kernel.normal_load if normal_load is None else self._check_load(normal_load)
+        if normal_load is None:
+            load = kernel.normal_load
+        else:
+            load = self._check_load(normal_load)
+            # Bring the model to the new load on its real state first (the model's
+            # force function does that): the solver's trial steps run on a copy.
+            kernel.force(kernel.scalars, kernel.table, kernel.state, float(self._body[1]), load)
         # The step from the sample times as simulate_system computes them.
         step = self._time_at(self._steps + 1) - self._time_at(self._steps)
         self._advance_body(kernel.step, kernel.tangent, self._memoryless, self._rest_capacity,

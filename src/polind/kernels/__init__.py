@@ -35,13 +35,13 @@ def for_functions(template, *functions):
     the type of a function argument refers to the function object itself: a
     version compiled for a function defined outside polind (a model of the
     user's own, in a script or a notebook) would be written to polind's
-    cache and fail to load once that function is gone.  For such functions
-    the template is compiled again without the on-disk cache, once per
-    process; polind's own functions use the cached template.
+    cache and fail to load once that function is gone.  The template is
+    therefore compiled again without the on-disk cache, once per process.
     """
-    if all(getattr(getattr(f, "py_func", f), "__module__", "").startswith("polind.")
-           for f in functions):
-        return template
+    # Measured: even polind's own functions, as argument types, do not match
+    # the cache index in a new process (it grows by an entry per process and
+    # its save fails after about a dozen).  So every template that takes
+    # functions is compiled once per process, never cached.
     twin = _UNCACHED.get(template)
     if twin is None:
         options = {**JIT_OPTIONS, **template.targetoptions, "cache": False}

@@ -61,7 +61,7 @@ def run_steps(step, force, scalars, table, state, step_length, displacement, ste
                             sample_load(loads, constant_load, k))
 
 
-@jit
+@jit(cache=False)
 def run_steps_any(step, force, scalars, table, state, step_length, displacement, step_velocity,
                   sample_velocity, loads, constant_load, lo, hi, first, out_force):
     """:func:`run_steps` for any model's functions (passed as arguments, not inlined)."""

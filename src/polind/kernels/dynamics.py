@@ -285,7 +285,7 @@ def body_step(step_function, tangent_function, memoryless, rest_capacity, force_
     return new_position, new_velocity, friction, step_velocity, True
 
 
-@jit(fastmath=False)
+@jit(fastmath=False, cache=False)
 def integrate_system(step_function, tangent_function, memoryless, rest_capacity, force_scale,
                      scalars, table, state, t, mass, drive_stiffness, drive_velocity, offset,
                      rate, amplitude, frequency, applied_steps, method, normal_load, x, v,
@@ -337,7 +337,7 @@ def integrate_system(step_function, tangent_function, memoryless, rest_capacity,
     carry[1] = 1.0 if history else 0.0
 
 
-@jit(fastmath=False)
+@jit(fastmath=False, cache=False)
 def advance_body(step_function, tangent_function, memoryless, rest_capacity, force_scale,
                  scalars, table, state, scratch, method, mass, step, external, body,
                  normal_load):
