@@ -22,7 +22,6 @@ import numpy as np
 
 from polind.errors import InputError, describe
 from polind.kernels import dynamics as dynamics_kernel
-from polind.kernels import for_functions
 from polind.models import FrictionModel, State
 from polind.simulate import as_samples
 
@@ -277,14 +276,12 @@ def simulate_system(model: FrictionModel, system: System, *, applied=None, initi
         system.amplitude, system.frequency)
     carry = np.array([v0, 0.0])
     memoryless = kernel.rest_capacity is not None
-    integrate = for_functions(dynamics_kernel.integrate_system, kernel.step, kernel.tangent)
     for start in range(1, n, _CHUNK):
         stop = min(start + _CHUNK, n)
-        integrate(
-            kernel.step, kernel.tangent, memoryless,
-            kernel.rest_capacity if memoryless else 0.0, kernel.force_scale, kernel.scalars,
-            kernel.table, kernel.state, t, system.mass, *drive, applied_steps, METHODS[method],
-            kernel.normal_load, x, v, force, applied_out, start, stop, carry)
+        kernel.integrate_system(
+            memoryless, kernel.rest_capacity if memoryless else 0.0, kernel.force_scale,
+            kernel.scalars, kernel.table, kernel.state, t, system.mass, *drive, applied_steps,
+            METHODS[method], kernel.normal_load, x, v, force, applied_out, start, stop, carry)
         if progress is not None:
             progress(stop - 1, n - 1)
 

@@ -316,9 +316,6 @@ class Body:
         self._memoryless = kernel.rest_capacity is not None
         self._rest_capacity = kernel.rest_capacity if self._memoryless else 0.0
         self._scratch = np.empty_like(kernel.state)
-        from polind.kernels import for_functions
-        from polind.kernels.dynamics import advance_body
-        self._advance_body = for_functions(advance_body, kernel.step, kernel.tangent)
         self._check_load = _LoadCheck(model, start, "Body")
         friction = initial_friction(kernel, velocity, 0.0)
         # [x_n, v_n, v_{n-1}, w_n, history, friction]: what the next step needs.
@@ -369,10 +366,9 @@ class Body:
             kernel.force(kernel.scalars, kernel.table, kernel.state, float(self._body[1]), load)
         # The step from the sample times as simulate_system computes them.
         step = self._time_at(self._steps + 1) - self._time_at(self._steps)
-        self._advance_body(kernel.step, kernel.tangent, self._memoryless, self._rest_capacity,
-                     kernel.force_scale, kernel.scalars, kernel.table, kernel.state,
-                     self._scratch, self._method, self._mass, step, applied_force, self._body,
-                     load)
+        kernel.advance_body(self._memoryless, self._rest_capacity, kernel.force_scale,
+                            kernel.scalars, kernel.table, kernel.state, self._scratch,
+                            self._method, self._mass, step, applied_force, self._body, load)
         self._steps += 1
         body = self._body
         return float(body[0]), float(body[1]), float(body[5])

@@ -24,27 +24,3 @@ def jit(function=None, **overrides):
         return lambda f: njit(**options)(f)
     return njit(**options)(function)
 
-
-_UNCACHED = {}
-
-
-def for_functions(template, *functions):
-    """``template`` ready to be called with these function arguments.
-
-    numba's on-disk cache keys a compiled version by its argument types, and
-    the type of a function argument refers to the function object itself: a
-    version compiled for a function defined outside polind (a model of the
-    user's own, in a script or a notebook) would be written to polind's
-    cache and fail to load once that function is gone.  The template is
-    therefore compiled again without the on-disk cache, once per process.
-    """
-    # Measured: even polind's own functions, as argument types, do not match
-    # the cache index in a new process (it grows by an entry per process and
-    # its save fails after about a dozen).  So every template that takes
-    # functions is compiled once per process, never cached.
-    twin = _UNCACHED.get(template)
-    if twin is None:
-        options = {**JIT_OPTIONS, **template.targetoptions, "cache": False}
-        options.pop("nopython", None)          # implied by njit
-        twin = _UNCACHED[template] = njit(**options)(template.py_func)
-    return twin

@@ -239,6 +239,24 @@ def rounded_motion(position, step, velocity):
     return new_position, new_position - position
 
 
+@jit(fastmath=False)
+def momentum_terms(second_order, mass, drive_stiffness, step, external, velocity,
+                   previous_velocity, previous_step_velocity):
+    """``(sample_slope, sample_offset, inertia, known)`` of a step's implicit equation.
+
+    ``inertia w + F(w) = known``, with the body's velocity at the sample
+    ``sample_slope w + sample_offset``: BDF2 when ``second_order``, else
+    backward Euler (the module notes).
+    """
+    if second_order:
+        # v_{n+1} = (3 w - w_n) / 2 and m (3 v_{n+1} - 4 v_n + v_{n-1}) / 2h = ...
+        inertia = 2.25 * mass / step + drive_stiffness * step
+        known = mass / step * (0.75 * previous_step_velocity + 2.0 * velocity
+                               - 0.5 * previous_velocity) + external
+        return 1.5, -0.5 * previous_step_velocity, inertia, known
+    return 1.0, 0.0, mass / step + drive_stiffness * step, mass / step * velocity + external
+
+
 @jit(inline="always")
 def body_step(step_function, tangent_function, memoryless, rest_capacity, force_scale,
               scalars, table, state, scratch, method, mass, drive_stiffness, step, external,
@@ -254,22 +272,15 @@ def body_step(step_function, tangent_function, memoryless, rest_capacity, force_
 
     Returns ``(x, v, F, step_velocity, history)`` at the end of the step.
 
-    Its callers :func:`integrate_system` and :func:`advance_body` are
-    compiled without fast-math: a fused multiply-add that one caller's
-    optimiser forms and the other's does not would make a :class:`polind.Body`
-    differ from ``simulate_system`` in the last bits.  (The model's own step
-    keeps its flags: it is a function of its own.)
+    The momentum terms and the new position are computed by functions
+    compiled without fast-math (:func:`momentum_terms`,
+    :func:`rounded_motion`): ``known`` cancels terms of order ``m v / h``, and
+    a fused multiply-add that one caller's optimiser forms and another's does
+    not would make a :class:`polind.Body` differ from ``simulate_system``.
     """
-    if method == BDF2 and history:
-        # v_{n+1} = (3 w - w_n) / 2 and m (3 v_{n+1} - 4 v_n + v_{n-1}) / 2h = ...
-        sample_slope, sample_offset = 1.5, -0.5 * previous_step_velocity
-        inertia = 2.25 * mass / step + drive_stiffness * step
-        known = mass / step * (0.75 * previous_step_velocity + 2.0 * velocity
-                               - 0.5 * previous_velocity) + external
-    else:
-        sample_slope, sample_offset = 1.0, 0.0
-        inertia = mass / step + drive_stiffness * step
-        known = mass / step * velocity + external
+    sample_slope, sample_offset, inertia, known = momentum_terms(
+        method == BDF2 and history, mass, drive_stiffness, step, external, velocity,
+        previous_velocity, previous_step_velocity)
     step_velocity, stuck = solve_step(step_function, tangent_function, memoryless, rest_capacity,
                                       force_scale, scalars, table, state, scratch, inertia,
                                       known, previous_step_velocity, step, position,
@@ -285,12 +296,14 @@ def body_step(step_function, tangent_function, memoryless, rest_capacity, force_
     return new_position, new_velocity, friction, step_velocity, True
 
 
-@jit(fastmath=False, cache=False)
-def integrate_system(step_function, tangent_function, memoryless, rest_capacity, force_scale,
-                     scalars, table, state, t, mass, drive_stiffness, drive_velocity, offset,
-                     rate, amplitude, frequency, applied_steps, method, normal_load, x, v,
-                     force, applied, start, stop, carry):
+@jit(inline="always")
+def integrate_system_template(step_function, tangent_function, arguments):
     """Integrate the 1-DOF system over the samples ``t``; fill the output arrays.
+
+    ``arguments`` is the tuple ``(memoryless, rest_capacity, force_scale,
+    scalars, table, state, t, mass, drive_stiffness, drive_velocity, offset,
+    rate, amplitude, frequency, applied_steps, method, normal_load, x, v,
+    force, applied, start, stop, carry)``.
 
     On entry ``x[0]``, ``v[0]`` and ``force[0]`` hold the initial position,
     velocity and friction force, and ``state`` the model state; on exit
@@ -311,6 +324,9 @@ def integrate_system(step_function, tangent_function, memoryless, rest_capacity,
     step velocity and whether a BDF2 history exists (1.0) or not (0.0).
     Start a run with ``carry = [v[0], 0.0]``.
     """
+    (memoryless, rest_capacity, force_scale, scalars, table, state, t, mass, drive_stiffness,
+     drive_velocity, offset, rate, amplitude, frequency, applied_steps, method, normal_load,
+     x, v, force, applied, start, stop, carry) = arguments
     angular_frequency = 2.0 * math.pi * frequency
     scratch = np.empty_like(state)
     driven = applied_steps.shape[0] > 0
@@ -337,16 +353,19 @@ def integrate_system(step_function, tangent_function, memoryless, rest_capacity,
     carry[1] = 1.0 if history else 0.0
 
 
-@jit(fastmath=False, cache=False)
-def advance_body(step_function, tangent_function, memoryless, rest_capacity, force_scale,
-                 scalars, table, state, scratch, method, mass, step, external, body,
-                 normal_load):
+@jit(inline="always")
+def advance_body_template(step_function, tangent_function, arguments):
     """One step of :class:`polind.Body`: :func:`body_step` with its state in ``body``.
 
-    ``body`` is ``[x_n, v_n, v_{n-1}, w_n, history, friction]`` and is
-    updated in place.  The same arithmetic as :func:`integrate_system` driven
-    by ``applied_steps``, so a loop of these equals one run of it.
+    ``arguments`` is the tuple ``(memoryless, rest_capacity, force_scale,
+    scalars, table, state, scratch, method, mass, step, external, body,
+    normal_load)``; ``body`` is ``[x_n, v_n, v_{n-1}, w_n, history,
+    friction]`` and is updated in place.  The same arithmetic as
+    :func:`integrate_system_template` driven by ``applied_steps``, so a loop
+    of these equals one run of it.
     """
+    (memoryless, rest_capacity, force_scale, scalars, table, state, scratch, method, mass, step,
+     external, body, normal_load) = arguments
     x, v, friction, step_velocity, history = body_step(
         step_function, tangent_function, memoryless, rest_capacity, force_scale, scalars, table,
         state, scratch, method, mass, 0.0, step, external, body[0], body[1], body[2], body[3],
@@ -357,3 +376,20 @@ def advance_body(step_function, tangent_function, memoryless, rest_capacity, for
     body[3] = step_velocity
     body[4] = 1.0 if history else 0.0
     body[5] = friction
+
+
+# For a model whose functions come as arguments (a model of the user's own).  numba
+# cannot keep these in its on-disk cache (a function argument's type is the function
+# object itself), so they compile once per process; polind's own models have cached
+# specialisations (``*_integrate`` and ``*_body`` beside their steps).
+
+@jit(cache=False)
+def integrate_system(step_function, tangent_function, arguments):
+    """:func:`integrate_system_template` for any model's functions (compiled per process)."""
+    integrate_system_template(step_function, tangent_function, arguments)
+
+
+@jit(cache=False)
+def advance_body(step_function, tangent_function, arguments):
+    """:func:`advance_body_template` for any model's functions (compiled per process)."""
+    advance_body_template(step_function, tangent_function, arguments)

@@ -32,6 +32,7 @@ import numpy as np
 
 from polind.kernels import jit
 from polind.kernels.contract import run_steps
+from polind.kernels.dynamics import advance_body_template, integrate_system_template
 from polind.kernels.fastexp import decay_exp
 from polind.kernels.stribeck import sign, stribeck_curve
 
@@ -262,3 +263,27 @@ def gms_path(scalars, table, state, step, displacement, step_velocity, sample_ve
     """:func:`polind.kernels.contract.run_steps` specialised to GMS."""
     run_steps(gms_step, gms_force, scalars, table, state, step, displacement, step_velocity,
               sample_velocity, loads, constant_load, lo, hi, first, out_force)
+
+
+@jit
+def maxwell_slip_integrate(arguments):
+    """:func:`polind.kernels.dynamics.integrate_system_template` specialised to Maxwell-slip (cacheable)."""
+    integrate_system_template(maxwell_slip_step, maxwell_slip_tangent, arguments)
+
+
+@jit
+def maxwell_slip_body(arguments):
+    """:func:`polind.kernels.dynamics.advance_body_template` specialised to Maxwell-slip (cacheable)."""
+    advance_body_template(maxwell_slip_step, maxwell_slip_tangent, arguments)
+
+
+@jit
+def gms_integrate(arguments):
+    """:func:`polind.kernels.dynamics.integrate_system_template` specialised to GMS (cacheable)."""
+    integrate_system_template(gms_step, gms_tangent, arguments)
+
+
+@jit
+def gms_body(arguments):
+    """:func:`polind.kernels.dynamics.advance_body_template` specialised to GMS (cacheable)."""
+    advance_body_template(gms_step, gms_tangent, arguments)

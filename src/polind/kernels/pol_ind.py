@@ -27,6 +27,7 @@ import math
 
 from polind.kernels import jit
 from polind.kernels.contract import run_steps
+from polind.kernels.dynamics import advance_body_template, integrate_system_template
 from polind.kernels.elements import (ELEMENT_CAPACITY, ELEMENT_INVERSE, ELEMENT_STIFFNESS,
                                      element_properties, element_sum, gms_step_scaled,
                                      gms_tangent, gms_force)
@@ -128,3 +129,15 @@ def pol_ind_path(scalars, table, state, step, displacement, step_velocity, sampl
     """:func:`polind.kernels.contract.run_steps` specialised to Pol-Ind."""
     run_steps(pol_ind_step, pol_ind_force, scalars, table, state, step, displacement,
               step_velocity, sample_velocity, loads, constant_load, lo, hi, first, out_force)
+
+
+@jit
+def pol_ind_integrate(arguments):
+    """:func:`polind.kernels.dynamics.integrate_system_template` specialised to Pol-Ind (cacheable)."""
+    integrate_system_template(pol_ind_step, pol_ind_tangent, arguments)
+
+
+@jit
+def pol_ind_body(arguments):
+    """:func:`polind.kernels.dynamics.advance_body_template` specialised to Pol-Ind (cacheable)."""
+    advance_body_template(pol_ind_step, pol_ind_tangent, arguments)

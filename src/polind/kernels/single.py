@@ -14,6 +14,7 @@ import numpy as np
 
 from polind.kernels import jit
 from polind.kernels.contract import run_steps
+from polind.kernels.dynamics import advance_body_template, integrate_system_template
 from polind.kernels.elements import (element_sum, elastic_stiffness, maxwell_slip_elements,
                                      maxwell_slip_trial)
 from polind.kernels.stribeck import sign, stribeck_curve
@@ -258,3 +259,39 @@ def leuven_path(scalars, table, state, step, displacement, step_velocity, sample
     """:func:`polind.kernels.contract.run_steps` specialised to Leuven."""
     run_steps(leuven_step, leuven_force, scalars, table, state, step, displacement,
               step_velocity, sample_velocity, loads, constant_load, lo, hi, first, out_force)
+
+
+@jit
+def dahl_integrate(arguments):
+    """:func:`polind.kernels.dynamics.integrate_system_template` specialised to Dahl (cacheable)."""
+    integrate_system_template(dahl_step, dahl_tangent, arguments)
+
+
+@jit
+def dahl_body(arguments):
+    """:func:`polind.kernels.dynamics.advance_body_template` specialised to Dahl (cacheable)."""
+    advance_body_template(dahl_step, dahl_tangent, arguments)
+
+
+@jit
+def lugre_integrate(arguments):
+    """:func:`polind.kernels.dynamics.integrate_system_template` specialised to LuGre (cacheable)."""
+    integrate_system_template(lugre_step, lugre_tangent, arguments)
+
+
+@jit
+def lugre_body(arguments):
+    """:func:`polind.kernels.dynamics.advance_body_template` specialised to LuGre (cacheable)."""
+    advance_body_template(lugre_step, lugre_tangent, arguments)
+
+
+@jit
+def leuven_integrate(arguments):
+    """:func:`polind.kernels.dynamics.integrate_system_template` specialised to Leuven (cacheable)."""
+    integrate_system_template(leuven_step, leuven_tangent, arguments)
+
+
+@jit
+def leuven_body(arguments):
+    """:func:`polind.kernels.dynamics.advance_body_template` specialised to Leuven (cacheable)."""
+    advance_body_template(leuven_step, leuven_tangent, arguments)

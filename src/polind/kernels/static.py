@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from polind.kernels import jit
 from polind.kernels.contract import run_steps
+from polind.kernels.dynamics import advance_body_template, integrate_system_template
 from polind.kernels.stribeck import sign, stribeck_curve
 
 # Slots of ``scalars``.
@@ -50,3 +51,15 @@ def memoryless_path(scalars, table, state, step, displacement, step_velocity, sa
     """:func:`polind.kernels.contract.run_steps` specialised to the memoryless step."""
     run_steps(memoryless_step, memoryless_force, scalars, table, state, step, displacement,
               step_velocity, sample_velocity, loads, constant_load, lo, hi, first, out_force)
+
+
+@jit
+def memoryless_integrate(arguments):
+    """:func:`polind.kernels.dynamics.integrate_system_template` specialised to the memoryless models (cacheable)."""
+    integrate_system_template(memoryless_step, memoryless_tangent, arguments)
+
+
+@jit
+def memoryless_body(arguments):
+    """:func:`polind.kernels.dynamics.advance_body_template` specialised to the memoryless models (cacheable)."""
+    advance_body_template(memoryless_step, memoryless_tangent, arguments)

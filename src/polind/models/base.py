@@ -186,16 +186,23 @@ class StepFunctions:
     """A model's numba functions of the stepping contract (:mod:`polind.kernels.contract`).
 
     ``step``, ``force`` and ``tangent`` are ``@njit`` functions with the
-    signatures documented there; ``path`` optionally runs a whole path with
-    ``step`` inlined (same signature as ``polind.kernels.contract.run_steps_any``
-    without its first two arguments).  Without ``path`` the generic
-    ``run_steps_any`` runs the model.
+    signatures documented there.  Optionally, specialisations of the
+    templates with the model's functions as globals, each taking the
+    template's arguments after its first two: ``path``
+    (``polind.kernels.contract.run_steps_any``, with ``step`` inlined),
+    ``integrate`` (``polind.kernels.dynamics.integrate_system_template``) and
+    ``body`` (``polind.kernels.dynamics.advance_body_template``).  numba can keep those in its
+    on-disk cache, which it cannot do for a template given functions as
+    arguments; without them the generic templates run the model, compiled
+    once per process.
     """
 
     step: object
     force: object
     tangent: object
     path: object = None
+    integrate: object = None
+    body: object = None
 
 
 @dataclass
@@ -215,8 +222,8 @@ class StepKernel:
     ----------
     step, force, tangent : numba functions
         See :mod:`polind.kernels.contract`.
-    path : numba function or None
-        A specialised path runner (``step`` inlined), if the model has one.
+    path, integrate, body : numba function or None
+        The model's specialised templates (:class:`StepFunctions`), if any.
     scalars, table, state : ndarray
         The model's parameters and its state, laid out for its functions.
     normal_load : float
@@ -232,6 +239,8 @@ class StepKernel:
     force: object
     tangent: object
     path: object
+    integrate: object
+    body: object
     scalars: np.ndarray
     table: np.ndarray
     state: np.ndarray
@@ -247,12 +256,26 @@ class StepKernel:
             self.path(self.scalars, self.table, self.state, step, displacement, step_velocity,
                       sample_velocity, loads, self.normal_load, lo, hi, first, out_force)
         else:
-            from polind.kernels import for_functions
             from polind.kernels.contract import run_steps_any
-            run = for_functions(run_steps_any, self.step, self.force)
-            run(self.step, self.force, self.scalars, self.table, self.state, step,
+            run_steps_any(self.step, self.force, self.scalars, self.table, self.state, step,
                           displacement, step_velocity, sample_velocity, loads,
                           self.normal_load, lo, hi, first, out_force)
+
+    def integrate_system(self, *args):
+        """``polind.kernels.dynamics.integrate_system_template`` with this model's functions."""
+        if self.integrate is not None:
+            self.integrate(args)
+        else:
+            from polind.kernels.dynamics import integrate_system
+            integrate_system(self.step, self.tangent, args)
+
+    def advance_body(self, *args):
+        """``polind.kernels.dynamics.advance_body_template`` with this model's functions."""
+        if self.body is not None:
+            self.body(args)
+        else:
+            from polind.kernels.dynamics import advance_body
+            advance_body(self.step, self.tangent, args)
 
 
 _NO_LOADS = np.zeros(0)
@@ -446,7 +469,7 @@ class FrictionModel:
         scalars, table = self.kernel_arrays(state)
         return StepKernel(
             step=functions.step, force=functions.force, tangent=functions.tangent,
-            path=functions.path,
+            path=functions.path, integrate=functions.integrate, body=functions.body,
             scalars=np.ascontiguousarray(scalars, dtype=np.float64),
             table=np.ascontiguousarray(np.atleast_2d(table), dtype=np.float64),
             state=np.ascontiguousarray(self.flat_state(state)),

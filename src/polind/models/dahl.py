@@ -49,7 +49,8 @@ class Dahl(FrictionModel):
         # Kernels load numba: imported on first use so `import polind` stays fast.
         from polind.kernels import single
         return StepFunctions(single.dahl_step, single.dahl_force, single.dahl_tangent,
-                             single.dahl_path)
+                             single.dahl_path,
+                             single.dahl_integrate, single.dahl_body)
 
     def kernel_arrays(self, state):
         p = self._params

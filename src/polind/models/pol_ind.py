@@ -232,7 +232,8 @@ class PolInd(FrictionModel):
         # Kernels load numba: imported on first use so `import polind` stays fast.
         from polind.kernels import pol_ind
         return StepFunctions(pol_ind.pol_ind_step, pol_ind.pol_ind_force,
-                             pol_ind.pol_ind_tangent, pol_ind.pol_ind_path)
+                             pol_ind.pol_ind_tangent, pol_ind.pol_ind_path,
+                             pol_ind.pol_ind_integrate, pol_ind.pol_ind_body)
 
     def kernel_arrays(self, state):
         from polind.kernels import pol_ind as slots
