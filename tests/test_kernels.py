@@ -47,7 +47,7 @@ def test_kernels_agree_with_the_plain_numpy_loops_of_the_benchmark(model_type, n
     model = bench.bench_model(model_type, n)
     path = bench.bench_path(4000 if model_type != "leuven" else 400)
     kernel = model._advance(path, model.initial_state(), None)
-    reference = bench._numpy_reference(model, path)
+    reference = bench._numpy_reference(model_type, model, path)
     scale = np.max(np.abs(reference))
     assert scale > 0
     assert np.max(np.abs(kernel - reference)) <= 1e-11 * scale

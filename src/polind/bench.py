@@ -28,6 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from polind.errors import InputError
 from polind.kernels import jit
 from polind.models import model_from_dict
 from polind.simulate import make_path
@@ -61,32 +62,29 @@ def _elements(n, seed=0):
     return stiffness, breakaway
 
 
-def bench_model(model_type, n):
-    """A benchmark model with ``n`` elements (the element count is 1 for single-state models)."""
+def _maxwell_slip_table(n):
     stiffness, breakaway = _elements(n)
-    table = {"type": model_type}
-    if model_type == "maxwell-slip":
-        table.update(stiffness=stiffness.tolist(), breakaway_force=breakaway.tolist())
-    elif model_type == "gms":
-        table.update(stiffness=stiffness.tolist(), weight=(breakaway / breakaway.sum()).tolist(),
-                     attraction=1e4, **_STRIBECK)
-    elif model_type == "leuven":
-        scaled = breakaway * (_STRIBECK["static_force"] / breakaway.sum())
-        table.update(stiffness=stiffness.tolist(), breakaway_force=scaled.tolist(), exponent=2.0,
-                     bristle_damping=10.0, **_STRIBECK)
-    elif model_type == "lugre":
-        table.update(bristle_stiffness=1e5, bristle_damping=316.2, **_STRIBECK)
-    elif model_type == "stribeck":
-        table.update(viscous_coefficient=0.4, **_STRIBECK)
-    elif model_type == "dahl":
-        table.update(stiffness=1e5, coulomb_force=1.0)
-    elif model_type == "pol-ind":
-        from polind.models.pol_ind import default_table
-        table = default_table()
-        table["discretisation"]["elements"] = n
-    else:
-        raise ValueError(f"no benchmark model for {model_type!r}")
-    return model_from_dict({"model": table})
+    return {"stiffness": stiffness.tolist(), "breakaway_force": breakaway.tolist()}
+
+
+def _gms_table(n):
+    stiffness, breakaway = _elements(n)
+    return {"stiffness": stiffness.tolist(), "weight": (breakaway / breakaway.sum()).tolist(),
+            "attraction": 1e4, **_STRIBECK}
+
+
+def _leuven_table(n):
+    stiffness, breakaway = _elements(n)
+    scaled = breakaway * (_STRIBECK["static_force"] / breakaway.sum())
+    return {"stiffness": stiffness.tolist(), "breakaway_force": scaled.tolist(),
+            "exponent": 2.0, "bristle_damping": 10.0, **_STRIBECK}
+
+
+def _pol_ind_table(n):
+    from polind.models.pol_ind import default_table
+    table = default_table()
+    table["discretisation"]["elements"] = n
+    return table
 
 
 def bench_path(steps, amplitude=2e-5, frequency=2.0, dt=1e-4):
@@ -191,28 +189,75 @@ def numpy_stribeck(path, fc, fs, vs, delta, sigma2):
     return out
 
 
-def _numpy_reference(model, path):
-    p = model.params
-    curve = [p.get(key) for key in ("coulomb_force", "static_force", "stribeck_velocity",
-                                    "stribeck_exponent")]
-    if model.type == "maxwell-slip":
-        return numpy_maxwell_slip(path, np.array(p["stiffness"]), np.array(p["breakaway_force"]))
-    if model.type in ("gms", "pol-ind"):
-        gms = p if model.type == "gms" else model.gms_parameters()
-        return numpy_gms(path, np.array(gms["stiffness"]), np.array(gms["weight"]),
-                         gms["attraction"], *[gms[key] for key in (
-                             "coulomb_force", "static_force", "stribeck_velocity",
-                             "stribeck_exponent")])
-    if model.type == "leuven":
-        return numpy_leuven(path, np.array(p["stiffness"]), np.array(p["breakaway_force"]),
-                            p["exponent"], p["bristle_damping"], *curve)
-    if model.type == "stribeck":
-        return numpy_stribeck(path, *curve, p["viscous_coefficient"])
-    if model.type == "lugre":
-        return numpy_lugre(path, p["bristle_stiffness"], p["bristle_damping"], *curve)
-    if model.type == "dahl":
-        return numpy_dahl(path, p["stiffness"], p["coulomb_force"])
-    raise ValueError(f"no NumPy reference for {model.type!r}")
+def _curve(p):
+    return [p[key] for key in ("coulomb_force", "static_force", "stribeck_velocity",
+                               "stribeck_exponent")]
+
+
+def _gms_reference(p, path):
+    return numpy_gms(path, np.array(p["stiffness"]), np.array(p["weight"]), p["attraction"],
+                     *_curve(p))
+
+
+@dataclass(frozen=True)
+class BenchCase:
+    """One benchmarked model: its parameter table at ``n`` elements and its NumPy loop.
+
+    ``table(n)`` gives the ``[model]`` keys besides ``type``; ``reference(model,
+    path)`` runs the plain NumPy loop of the same physics; ``elements`` says
+    whether the model is run at every element count or once.
+    """
+
+    table: object
+    reference: object
+    elements: bool = False
+
+
+#: The benchmark's cases, by model type: the models it times and the NumPy loops it
+#: times them against (written from the mathematics, not from the kernels).
+CASES = {
+    "maxwell-slip": BenchCase(_maxwell_slip_table, lambda model, path: numpy_maxwell_slip(
+        path, np.array(model.params["stiffness"]), np.array(model.params["breakaway_force"])),
+        elements=True),
+    "gms": BenchCase(_gms_table, lambda model, path: _gms_reference(model.params, path),
+                     elements=True),
+    # At its constant load Pol-Ind is the GMS of its element table (MODELS.md 7.6).
+    "pol-ind": BenchCase(_pol_ind_table,
+                         lambda model, path: _gms_reference(model.gms_parameters(), path),
+                         elements=True),
+    "leuven": BenchCase(_leuven_table, lambda model, path: numpy_leuven(
+        path, np.array(model.params["stiffness"]), np.array(model.params["breakaway_force"]),
+        model.params["exponent"], model.params["bristle_damping"], *_curve(model.params)),
+        elements=True),
+    "lugre": BenchCase(lambda n: {"bristle_stiffness": 1e5, "bristle_damping": 316.2,
+                                  **_STRIBECK},
+                       lambda model, path: numpy_lugre(
+                           path, model.params["bristle_stiffness"],
+                           model.params["bristle_damping"], *_curve(model.params))),
+    "dahl": BenchCase(lambda n: {"stiffness": 1e5, "coulomb_force": 1.0},
+                      lambda model, path: numpy_dahl(path, model.params["stiffness"],
+                                                     model.params["coulomb_force"])),
+    "stribeck": BenchCase(lambda n: {"viscous_coefficient": 0.4, **_STRIBECK},
+                          lambda model, path: numpy_stribeck(
+                              path, *_curve(model.params),
+                              model.params["viscous_coefficient"])),
+}
+
+
+def _case(model_type):
+    if model_type not in CASES:
+        raise InputError(f"The benchmark has no case for the model type '{model_type}'; it "
+                         f"benchmarks: {', '.join(CASES)}.")
+    return CASES[model_type]
+
+
+def bench_model(model_type, n):
+    """A benchmark model with ``n`` elements (the element count is 1 for single-state models)."""
+    return model_from_dict({"model": {"type": model_type, **_case(model_type).table(n)}})
+
+
+def _numpy_reference(model_type, model, path):
+    return _case(model_type).reference(model, path)
 
 
 def _best_time(function, repeats):
@@ -238,7 +283,7 @@ def run_case(model_type, n, kernel_seconds=0.3, numpy_seconds=1.0, repeats=3):
     and ``numpy_seconds``; the kernel is timed best of ``repeats``.
     """
     model = bench_model(model_type, n)
-    elements = n if model_type in ("maxwell-slip", "gms", "leuven", "pol-ind") else 1
+    elements = n if _case(model_type).elements else 1
     probe = bench_path(20_000)
     model._advance(bench_path(64), model.initial_state(), None)     # compile / load cache
     probe_time, _ = _best_time(lambda: model._advance(probe, model.initial_state(), None), 1)
@@ -247,10 +292,10 @@ def run_case(model_type, n, kernel_seconds=0.3, numpy_seconds=1.0, repeats=3):
     kernel_time, _ = _best_time(
         lambda: model._advance(path, model.initial_state(), None), repeats)
     probe_numpy = bench_path(100)
-    numpy_probe_time, _ = _best_time(lambda: _numpy_reference(model, probe_numpy), 1)
+    numpy_probe_time, _ = _best_time(lambda: _numpy_reference(model_type, model, probe_numpy), 1)
     numpy_steps = _steps_for(numpy_seconds, 100, numpy_probe_time, 200, steps)
     short = bench_path(numpy_steps)
-    numpy_time, numpy_force = _best_time(lambda: _numpy_reference(model, short), 1)
+    numpy_time, numpy_force = _best_time(lambda: _numpy_reference(model_type, model, short), 1)
     reference = model._advance(short, model.initial_state(), None)
     scale = max(np.max(np.abs(numpy_force)), 1e-300)
     difference = float(np.max(np.abs(reference - numpy_force)) / scale)
@@ -259,16 +304,11 @@ def run_case(model_type, n, kernel_seconds=0.3, numpy_seconds=1.0, repeats=3):
 
 
 def cases(models=None):
-    """The (model, element count) pairs the benchmark runs."""
-    from polind.models import MODEL_TYPES
-
-    element_models = [m for m in ("maxwell-slip", "gms", "pol-ind", "leuven")
-                      if m in MODEL_TYPES]
-    single = ["lugre", "dahl", "stribeck"]
-    chosen = models or element_models + single
+    """The (model type, element count) pairs the benchmark runs (default: every case)."""
+    chosen = models or list(CASES)
     out = []
     for model_type in chosen:
-        counts = ELEMENT_COUNTS if model_type in element_models else (1,)
+        counts = ELEMENT_COUNTS if _case(model_type).elements else (1,)
         out.extend((model_type, n) for n in counts)
     return out
 

@@ -209,6 +209,9 @@ def bench(models):
     Each model runs at 1, 64 and 1024 elements (the single-state models at
     one); the same work done by a plain NumPy loop (step loop in Python,
     elements vectorised) is timed in the same run and the ratio printed.
+    Without --model, ratios taken in the same run follow: Stepper against a
+    bare numba call, simulate against bare numba loops, Pol-Ind under a
+    varying against a constant load.
     """
     from polind import bench as benchmark
     from polind.models import MODEL_TYPES
@@ -217,6 +220,9 @@ def bench(models):
         if model_type not in MODEL_TYPES:
             raise InputError(f"Unknown model type '{model_type}' for option '--model'; expected "
                              f"one of: {', '.join(sorted(MODEL_TYPES))}.")
+        if model_type not in benchmark.CASES:
+            raise InputError(f"The benchmark has no case for '{model_type}' (option "
+                             f"'--model'); expected one of: {', '.join(benchmark.CASES)}.")
     cases = benchmark.cases(list(models) or None)
     rows = []
     click.echo("polind bench: one thread, best of 3 timed runs after a warm-up")
@@ -234,6 +240,10 @@ def bench(models):
                    f"{separation.evaluations} load evaluations, |N(d) - N|/N = "
                    f"{separation.relative_residual:.1e} (building the sorted surface: "
                    f"{separation.build_seconds * 1e3:.0f} ms, once per surface)")
+    if not models:
+        click.echo("\n" + benchmark.format_ratios([]))
+        benchmark.run_ratios(progress=lambda row: click.echo(
+            benchmark.format_ratios([row]).splitlines()[-1]))
 
 
 @cli.command()
