@@ -208,8 +208,13 @@ def test_stepper_and_body_refuse_bad_construction():
     model = lib(ALL["gms"])
     with pytest.raises(polind.InputError, match="friction model"):
         polind.Stepper({"type": "gms"})
-    with pytest.raises(polind.InputError, match="not both"):
+    with pytest.raises(polind.InputError, match="the state's"):
         polind.Stepper(model, state=model.initial_state(), time=1.0)
+    # the defaults of the signature, or the state's own values, are accepted beside a state
+    state = model.initial_state()
+    state.time, state.position = 2.0, 1e-6
+    assert polind.Stepper(model, state=state, time=0.0, position=0.0).time == 2.0
+    assert polind.Stepper(model, state=state, time=2.0, position=1e-6).position == 1e-6
     other = lib(ALL["maxwell-slip"]).initial_state()
     with pytest.raises(polind.InputError, match="maxwell-slip"):
         polind.Stepper(model, state=other)

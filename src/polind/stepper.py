@@ -108,10 +108,11 @@ class Stepper:
     state : State, optional
         Continue from a saved state (a result's ``final_state``): time,
         position, velocity and force are then the state's.
-    time, position : float, optional
-        The first sample [s] and [m] (default 0) of a stepper without state.
-    velocity : float, optional
-        The velocity [m/s] at the first sample (default 0).  Only the first
+    time, position : float, default 0
+        The first sample [s] and [m] of a stepper without state (with a
+        state, its own; a value given beside it must agree).
+    velocity : float, default 0
+        The velocity [m/s] at the first sample.  Only the first
         ``force`` depends on it (its rate terms); :func:`polind.simulate`
         with ``x`` reports the first step's velocity there, which a stepper
         cannot know before the step: pass it here to get that force too.
@@ -136,12 +137,20 @@ class Stepper:
     [1.2, -1.0]
     """
 
-    def __init__(self, model, state=None, time=None, position=None, velocity=None):
+    def __init__(self, model, state=None, time=0.0, position=0.0, velocity=0.0):
         _check_model(model, "Stepper")
-        if state is not None and not (time is None and position is None and velocity is None):
-            raise InputError("Give the Stepper either a 'state' or 'time'/'position'/'velocity', "
-                             "not both: a state carries its own.")
+        time = _real("time", time, "Stepper")
+        position = _real("position", position, "Stepper")
+        velocity = _real("velocity", velocity, "Stepper")
         start = _start_state(model, state, "Stepper")
+        if state is not None:
+            # A state carries its own sample: other values than the defaults must agree.
+            for name, given, own in (("time", time, state.time),
+                                     ("position", position, state.position),
+                                     ("velocity", velocity, state.velocity)):
+                if given != 0.0 and given != own:
+                    raise InputError(f"The '{name}' of Stepper is the state's ({own!r}) when a "
+                                     f"state is given. Got {given!r} instead.")
         self._model = model
         self._template = start
         kernel = model.step_kernel(start)
@@ -154,9 +163,7 @@ class Stepper:
             self._time, self._position = state.time, state.position
             self._velocity, self._force = state.velocity, state.force
         else:
-            self._time = 0.0 if time is None else _real("time", time, "Stepper")
-            self._position = 0.0 if position is None else _real("position", position, "Stepper")
-            self._velocity = 0.0 if velocity is None else _real("velocity", velocity, "Stepper")
+            self._time, self._position, self._velocity = time, position, velocity
             self._force = float(kernel.force(self._scalars, self._table, self._flat,
                                              self._velocity, self._load))
 
