@@ -30,6 +30,7 @@ from numba import njit
 from polind.contact._checks import positive_number
 from polind.contact.greenwood import VALID_RANGE, gw_integral, half_integer_pair
 from polind.errors import InputError, describe
+from polind.kernels.separation import tail_moments
 
 __all__ = [
     "StatisticalSurface",
@@ -154,33 +155,10 @@ class StatisticalSurface:
 
 
 @njit(cache=True)
-def _tail_moments(heights, counts, d):
-    """Sums over the summits above ``d`` of ``counts * delta^p``, ``p = 0, 1/2, 1, 3/2``.
-
-    ``heights`` is sorted ascending, so the summits in contact are a tail;
-    summing it from its lowest member adds the small terms first.
-    """
-    start = np.searchsorted(heights, d, side="right")
-    number = 0.0
-    root_sum = 0.0
-    linear_sum = 0.0
-    load_sum = 0.0
-    for i in range(start, heights.size):
-        delta = heights[i] - d
-        root = math.sqrt(delta)
-        weight = counts[i]
-        number += weight
-        root_sum += weight * root
-        linear_sum += weight * delta
-        load_sum += weight * delta * root
-    return number, root_sum, linear_sum, load_sum
-
-
-@njit(cache=True)
 def _tail_moments_many(heights, counts, separations, out):
-    """:func:`_tail_moments` at every separation; ``out`` has shape (n, 4)."""
+    """:func:`~polind.kernels.separation.tail_moments` at every separation; ``out`` is (n, 4)."""
     for k in range(separations.size):
-        number, root_sum, linear_sum, load_sum = _tail_moments(heights, counts, separations[k])
+        number, root_sum, linear_sum, load_sum = tail_moments(heights, counts, separations[k])
         out[k, 0] = number
         out[k, 1] = root_sum
         out[k, 2] = linear_sum
@@ -322,7 +300,7 @@ class DirectSurface:
 
     def load_and_slope(self, d: float) -> tuple[float, float]:
         """``(N(d), dN/dd)`` for one separation ``d`` [m]: the solver's fast path."""
-        _, root_sum, _, load_sum = _tail_moments(self.heights, self.counts, float(d))
+        _, root_sum, _, load_sum = tail_moments(self.heights, self.counts, float(d))
         scale = self._hertz_scale()
         return scale * load_sum, -1.5 * scale * root_sum
 

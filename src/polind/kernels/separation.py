@@ -58,6 +58,7 @@ __all__ = [
     "RELATIVE_TOLERANCE",
     "MAX_ITERATIONS",
     "gw_half_integer_pair",
+    "tail_moments",
     "statistical_load_and_slope",
     "direct_load_and_slope",
     "surface_load_and_slope",
@@ -170,14 +171,38 @@ def statistical_load_and_slope(d, load_scale, height_std, addresses):
 
 
 @jit(fastmath=False)
+def tail_moments(heights, counts, d):
+    """Sums over the summits above ``d`` of ``counts * delta^p``, ``p = 0, 1/2, 1, 3/2``.
+
+    ``heights`` is sorted ascending, so the summits in contact are a tail;
+    summing it from its lowest member adds the small terms first.  The one
+    sum behind every total of a direct surface
+    (:class:`polind.contact.surface.DirectSurface`) and its load here.
+    """
+    start = np.searchsorted(heights, d, side="right")
+    number = 0.0
+    root_sum = 0.0
+    linear_sum = 0.0
+    load_sum = 0.0
+    for i in range(start, heights.size):
+        delta = heights[i] - d
+        root = math.sqrt(delta)
+        weight = counts[i]
+        number += weight
+        root_sum += weight * root
+        linear_sum += weight * delta
+        load_sum += weight * delta * root
+    return number, root_sum, linear_sum, load_sum
+
+
+@jit(fastmath=False)
 def direct_load_and_slope(d, heights, counts, hertz):
     """``(N(d), dN/dd)`` of a finite set of summits, a plain sum (MODELS.md 7.1, approach I).
 
     ``N = hertz sum c_i (h_i - d)^(3/2)`` and ``dN/dd = -(3/2) hertz sum
     c_i (h_i - d)^(1/2)`` over the summits above ``d``, summed from the lowest
-    of them (small terms first) in the order of
-    :meth:`polind.contact.surface.DirectSurface.load_and_slope`, so the
-    results are the same to the bit.
+    of them (small terms first) by :func:`tail_moments`, as
+    :meth:`polind.contact.surface.DirectSurface.load_and_slope` sums them.
 
     Parameters
     ----------
@@ -195,15 +220,7 @@ def direct_load_and_slope(d, heights, counts, hertz):
     tuple of float
         ``N(d)`` [N] and ``dN/dd`` [N/m] (negative, 0 with no summit in contact).
     """
-    start = np.searchsorted(heights, d, side="right")
-    root_sum = 0.0
-    load_sum = 0.0
-    for i in range(start, heights.size):
-        delta = heights[i] - d
-        root = math.sqrt(delta)
-        weight = counts[i]
-        root_sum += weight * root
-        load_sum += weight * delta * root
+    _, root_sum, _, load_sum = tail_moments(heights, counts, d)
     return hertz * load_sum, -1.5 * hertz * root_sum
 
 
