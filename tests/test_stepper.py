@@ -185,8 +185,8 @@ def test_a_stuck_body_holds_still_with_stiff_elements():
     ({"t": 1.0, "v": float("nan")}, "'v'"),
     ({"t": 1.0}, "exactly one"),
     ({"t": 1.0, "x": 0.0, "v": 0.0}, "exactly one"),
-    ({"t": 1.0, "x": "0.1"}, "real number"),
-    ({"t": 1.0, "x": 1j}, "real number"),
+    ({"t": 1.0, "x": "0.1"}, "'x' parameter of Stepper.advance must be a number"),
+    ({"t": 1.0, "x": 1j}, "'x' parameter of Stepper.advance must be a number"),
     ({"t": 1.0, "x": 0.0, "normal_load": 10.0}, "pol-ind model only"),
 ])
 def test_stepper_refuses_bad_samples(bad, message):

@@ -46,7 +46,8 @@ except ImportError as error:    # the optional extra is not installed
                       "pip install polind[control]") from error
 
 from polind.errors import InputError, describe
-from polind.stepper import _check_model, _LoadCheck, _real, _start_state
+from polind.stepper import _check_model, _LoadCheck, _start_state
+from polind.validation import check_number
 
 __all__ = ["friction_system", "initial_state", "state_names", "CARRIED_STATES"]
 
@@ -122,8 +123,10 @@ def initial_state(model, state=None, *, position=None, velocity=None) -> np.ndar
         carried = (state.position, state.velocity, 1.0)
     else:
         flat = model.flat_state(model.initial_state())
-        carried = (0.0 if position is None else _real("position", position, "initial_state"),
-                   0.0 if velocity is None else _real("velocity", velocity, "initial_state"),
+        carried = (0.0 if position is None else check_number("initial_state", "position",
+                                                             position),
+                   0.0 if velocity is None else check_number("initial_state", "velocity",
+                                                             velocity),
                    0.0)
     return np.concatenate((np.asarray(flat, dtype=np.float64), np.array(carried, dtype=float)))
 

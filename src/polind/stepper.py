@@ -25,22 +25,9 @@ import numpy as np
 
 from polind.errors import InputError, describe
 from polind.models import FrictionModel, State
+from polind.validation import check_number
 
 __all__ = ["Stepper", "Body"]
-
-
-def _real(name, value, owner):
-    """``value`` as a finite float, else InputError (the slow path of the checks)."""
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        if isinstance(value, np.ndarray) and value.shape == () and value.dtype.kind in "iuf":
-            value = value.item()
-        else:
-            raise InputError(f"The '{name}' of {owner} must be a real number. "
-                             f"Got {describe(value)} instead.")
-    number = float(value)
-    if not math.isfinite(number):
-        raise InputError(f"The '{name}' of {owner} must be finite. Got {number!r} instead.")
-    return number
 
 
 def _check_model(model, owner):
@@ -73,11 +60,8 @@ class _LoadCheck:
         if not self.takes_load:
             raise InputError(f"A 'normal_load' applies to the pol-ind model only; the model is "
                              f"'{self.model.type}'.")
-        load = _real("normal_load", normal_load, self.owner)
+        load = check_number(self.owner, "normal_load", normal_load, "positive")
         low, high = self.bounds
-        if not load > 0.0:
-            raise InputError(f"The 'normal_load' of {self.owner} must be positive. "
-                             f"Got {load!r} instead.")
         if not low <= load <= high:
             self.model.check_loads(np.array([load]), self.state)
         return load
@@ -139,9 +123,9 @@ class Stepper:
 
     def __init__(self, model, state=None, time=0.0, position=0.0, velocity=0.0):
         _check_model(model, "Stepper")
-        time = _real("time", time, "Stepper")
-        position = _real("position", position, "Stepper")
-        velocity = _real("velocity", velocity, "Stepper")
+        time = check_number("Stepper", "time", time)
+        position = check_number("Stepper", "position", position)
+        velocity = check_number("Stepper", "velocity", velocity)
         start = _start_state(model, state, "Stepper")
         if state is not None:
             # A state carries its own sample: other values than the defaults must agree.
@@ -209,7 +193,7 @@ class Stepper:
         """
         # Fast path: plain floats, checked with comparisons only.
         if type(t) is not float:
-            t = _real("t", t, "Stepper.advance")
+            t = check_number("Stepper.advance", "t", t)
         step = t - self._time
         if not step > 0.0 or step == math.inf:
             raise InputError(f"The 't' of Stepper.advance must be finite and after the current "
@@ -218,7 +202,7 @@ class Stepper:
             if x is None:
                 raise InputError("Give Stepper.advance exactly one of 'x' and 'v'. Got neither.")
             if type(x) is not float:
-                x = _real("x", x, "Stepper.advance")
+                x = check_number("Stepper.advance", "x", x)
             displacement = x - self._position
             step_velocity = displacement / step
             if not -math.inf < step_velocity < math.inf:
@@ -230,7 +214,7 @@ class Stepper:
             if x is not None:
                 raise InputError("Give Stepper.advance exactly one of 'x' and 'v'. Got both.")
             if type(v) is not float:
-                v = _real("v", v, "Stepper.advance")
+                v = check_number("Stepper.advance", "v", v)
             step_velocity = 0.5 * (self._velocity + v)
             displacement = step_velocity * step
             position = self._position + displacement
@@ -300,16 +284,13 @@ class Body:
         from polind.dynamics import METHODS, initial_friction
 
         _check_model(model, "Body")
-        mass = _real("mass", mass, "Body")
-        time_step = _real("time_step", time_step, "Body")
-        for name, value in (("mass", mass), ("time_step", time_step)):
-            if not value > 0.0:
-                raise InputError(f"The '{name}' of Body must be positive. Got {value!r} instead.")
+        mass = check_number("Body", "mass", mass, "positive")
+        time_step = check_number("Body", "time_step", time_step, "positive")
         if method not in METHODS:
             raise InputError(f"The 'method' of Body must be one of 'bdf2', 'euler'. "
                              f"Got {describe(method)} instead.")
-        position = _real("position", position, "Body")
-        velocity = _real("velocity", velocity, "Body")
+        position = check_number("Body", "position", position)
+        velocity = check_number("Body", "velocity", velocity)
         start = _start_state(model, state, "Body")
         kernel = model.step_kernel(start)
         self._model = model
@@ -359,7 +340,7 @@ class Body:
         models that use it (default: the model's own).
         """
         if type(applied_force) is not float:
-            applied_force = _real("applied_force", applied_force, "Body.step")
+            applied_force = check_number("Body.step", "applied_force", applied_force)
         elif not -math.inf < applied_force < math.inf:
             raise InputError(f"The 'applied_force' of Body.step must be finite. "
                              f"Got {applied_force!r} instead.")
