@@ -23,12 +23,6 @@ from polind.models.params import validate_table
 MODEL_TYPES: dict[str, type] = {}
 
 
-def register(cls):
-    """Class decorator: make a model available under its ``type`` name."""
-    MODEL_TYPES[cls.type] = cls
-    return cls
-
-
 def register_model(cls, *, replace=False):
     """Make a :class:`FrictionModel` subclass usable everywhere under its ``type``.
 
@@ -58,6 +52,10 @@ def register_model(cls, *, replace=False):
                          f"{MODEL_TYPES[name].__name__}); choose another name.")
     MODEL_TYPES[name] = cls
     return cls
+
+
+#: polind's own models register with the same function, as a class decorator.
+register = register_model
 
 
 @dataclass(frozen=True)

@@ -64,7 +64,7 @@ class GMS(FrictionModel):
                              elements.gms_integrate, elements.gms_body)
 
     def kernel_arrays(self, state):
-        return gms_arrays(self._params, self._array("stiffness"), self._array("weight"))
+        return gms_arrays(self._params)
 
     def force_scale(self):
         return max(self._params["coulomb_force"], self._params["static_force"])
@@ -81,8 +81,8 @@ def gms_scales(params):
                   / float(np.max(capacity)))
 
 
-def gms_arrays(params, stiffness, weight):
-    """``(scalars, table)`` of the GMS step for a parameter set (GMS and Pol-Ind)."""
+def gms_arrays(params):
+    """``(scalars, table)`` of the GMS step for a parameter set (GMS and Pol-Ind at its load)."""
     from polind.kernels import elements as slots
     from polind.kernels.stribeck import SHAPE_CODES
 
@@ -94,8 +94,8 @@ def gms_arrays(params, stiffness, weight):
     scalars[slots.STRIBECK_VELOCITY] = params["stribeck_velocity"]
     scalars[slots.STRIBECK_EXPONENT] = params["stribeck_exponent"]
     scalars[slots.STRIBECK_SHAPE] = SHAPE_CODES[params["stribeck_shape"]]
-    stiffness = np.asarray(stiffness, dtype=np.float64)
-    weight = np.asarray(weight, dtype=np.float64)
+    stiffness = np.asarray(params["stiffness"], dtype=np.float64)
+    weight = np.asarray(params["weight"], dtype=np.float64)
     # An element without load (alpha = 0) never carries force: 1/alpha = inf.
     inverse = np.divide(1.0, weight, where=weight > 0.0, out=np.full_like(weight, np.inf))
     return scalars, np.vstack([stiffness, weight, inverse])

@@ -243,8 +243,7 @@ class PolInd(FrictionModel):
         table_load = float(state.variables["table_load"][0])
         contact = self.contact(table_load)
         surface = contact.surface
-        gms_scalars, gms_table = gms_arrays(self.gms_parameters(table_load),
-                                            *self._table_rows(table_load))
+        gms_scalars, gms_table = gms_arrays(self.gms_parameters(table_load))
         scalars = np.zeros(slots.N_SCALARS)
         scalars[:gms_scalars.shape[0]] = gms_scalars
         p = self._params
@@ -271,10 +270,6 @@ class PolInd(FrictionModel):
         table = np.zeros((slots.N_ROWS, gms_table.shape[1]))
         table[:gms_table.shape[0]] = gms_table
         return scalars, table
-
-    def _table_rows(self, load):
-        gms = self.gms_parameters(load)
-        return gms["stiffness"], gms["weight"]
 
     def characteristic_scales(self):
         # At its constant load Pol-Ind is a GMS (MODELS.md 7.6): its scales are that GMS's.
