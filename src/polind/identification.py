@@ -70,28 +70,7 @@ from polind.models.params import Param, Table
 from polind.simulate import as_samples, make_path, simulate
 
 __all__ = ["FitResult", "identify", "parse_fit", "identify_maxwell_slip", "identify_gms",
-           "identify_stribeck", "plot_fit", "DEFAULT_FREE"]
-
-#: The keys :func:`identify` frees when given a bare model and no ``free``.
-class _DefaultFree(Mapping):
-    """The keys each registered model type frees by default (its ``fit_defaults``)."""
-
-    def __getitem__(self, model_type):
-        from polind.models import MODEL_TYPES
-        defaults = MODEL_TYPES[model_type].fit_defaults
-        if not defaults:
-            raise KeyError(model_type)
-        return tuple(defaults)
-
-    def __iter__(self):
-        from polind.models import MODEL_TYPES
-        return iter([name for name, cls in MODEL_TYPES.items() if cls.fit_defaults])
-
-    def __len__(self):
-        return sum(1 for _ in self)
-
-
-DEFAULT_FREE = _DefaultFree()
+           "identify_stribeck", "plot_fit"]
 
 _FIT_KEYS = ("free", "bounds", "result")
 _DATA_KEYS = ("t", "x", "v", "F", "normal_load")
@@ -297,8 +276,8 @@ class _Free:
 
 def _free_keys(model: FrictionModel, free) -> list[str]:
     if free is None:
-        free = DEFAULT_FREE.get(model.type)
-        if free is None:
+        free = list(model.fit_defaults)
+        if not free:
             raise InputError(f"Name the free parameters of the {model.type} model: give "
                              "'free' (a list of keys) or a model document with a [fit] table.")
     if isinstance(free, str):
@@ -633,7 +612,8 @@ def identify(model, data, *, free=None, bounds=None, max_evaluations=None, toler
         Keys to identify, dotted for nested keys (``"surface.height_std"``);
         a list-valued key (``stiffness``) is free as a whole vector.  Default:
         the document's ``[fit] free``; without one (a bare model, or no
-        ``free`` in ``[fit]``), :data:`DEFAULT_FREE` of the model's type.
+        ``free`` in ``[fit]``), the model's own
+        ``fit_defaults`` (:class:`polind.FrictionModel`).
     bounds : dict, optional
         Per free key ``[low, high]`` in the parameter's unit (one pair for all
         entries of a list key).  Default: the document's ``[fit.bounds]``;
