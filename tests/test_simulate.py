@@ -65,3 +65,32 @@ class _no_warnings:
 
     def __exit__(self, *exc):
         return self._catch.__exit__(*exc)
+
+
+@pytest.mark.parametrize("continuing", [False, True])
+def test_the_path_is_numpys_diff_divide_and_accumulate_to_the_bit(continuing):
+    # INTERFACE.md's rules written with NumPy, against the one-pass compiled cut.
+    from polind.models import State
+    from polind.simulate import make_path
+
+    rng = np.random.default_rng(4)
+    t = np.cumsum(rng.uniform(1e-4, 2e-3, 500))
+    x = np.cumsum(rng.normal(0.0, 1e-6, 500))
+    v = rng.normal(0.0, 1e-3, 500)
+    state = State("coulomb", time=t[0], position=0.3, velocity=-2e-3) if continuing else None
+    h = np.diff(t)
+    by_x = make_path(t, x=x, state=state)
+    np.testing.assert_array_equal(by_x.step[1:], h)
+    np.testing.assert_array_equal(by_x.displacement[1:], np.diff(x))
+    np.testing.assert_array_equal(by_x.step_velocity[1:], np.diff(x) / h)
+    np.testing.assert_array_equal(by_x.sample_velocity[1:], np.diff(x) / h)
+    assert by_x.sample_velocity[0] == (-2e-3 if continuing else np.diff(x)[0] / h[0])
+    assert by_x.step[0] == by_x.displacement[0] == by_x.step_velocity[0] == 0.0
+    by_v = make_path(t, v=v, state=state)
+    mean = 0.5 * (v[:-1] + v[1:])
+    np.testing.assert_array_equal(by_v.step_velocity[1:], mean)
+    np.testing.assert_array_equal(by_v.displacement[1:], mean * h)
+    start = 0.3 if continuing else 0.0
+    np.testing.assert_array_equal(by_v.x, np.add.accumulate(np.concatenate(([start],
+                                                                            mean * h))))
+    np.testing.assert_array_equal(by_v.sample_velocity, v)

@@ -44,8 +44,8 @@ class SimulationResult:
     normal_load: np.ndarray | None = None
 
 
-def as_samples(name, values, length=None, *, positive=False):
-    """A finite 1-D float64 copy of ``values``; InputError naming ``name`` otherwise."""
+def _converted(name, values, length=None):
+    """A 1-D float64 copy of ``values`` of the given length; InputError naming ``name`` otherwise."""
     try:
         array = np.array(values, dtype=np.float64, copy=True)
     except (TypeError, ValueError):
@@ -57,10 +57,20 @@ def as_samples(name, values, length=None, *, positive=False):
     if length is not None and array.shape[0] != length:
         raise InputError(f"The '{name}' samples must have the length of 't' ({length}). "
                          f"Got {array.shape[0]} instead.")
+    return array
+
+
+def _not_finite(name, array, index):
+    return InputError(f"The '{name}' samples must be finite. Got {float(array[index])!r} at "
+                      f"index {index} instead.")
+
+
+def as_samples(name, values, length=None, *, positive=False):
+    """A finite 1-D float64 copy of ``values``; InputError naming ``name`` otherwise."""
+    array = _converted(name, values, length)
     bad = np.flatnonzero(~np.isfinite(array))
     if bad.size:
-        raise InputError(f"The '{name}' samples must be finite. Got {float(array[bad[0]])!r} at index "
-                         f"{bad[0]} instead.")
+        raise _not_finite(name, array, bad[0])
     if positive:
         bad = np.flatnonzero(array <= 0.0)
         if bad.size:
@@ -70,24 +80,20 @@ def as_samples(name, values, length=None, *, positive=False):
 
 
 def _time(t):
-    t = as_samples("t", t)
+    """The sample times: finite, at least 2, strictly increasing (one compiled pass)."""
+    from polind.kernels.contract import NOT_FINITE, NOT_INCREASING, check_times
+
+    t = _converted("t", t)
+    code, k = check_times(t)
+    if code == NOT_FINITE:
+        raise _not_finite("t", t, k)
     if t.shape[0] < 2:
         raise InputError(f"The 't' samples must have at least 2 entries. Got {t.shape[0]} "
                          "instead.")
-    steps = np.diff(t)
-    bad = np.flatnonzero(steps <= 0.0)
-    if bad.size:
-        k = bad[0] + 1
+    if code == NOT_INCREASING:
         raise InputError(f"The 't' samples must be strictly increasing. Got t[{k}] = "
                          f"{float(t[k])!r} after t[{k - 1}] = {float(t[k - 1])!r}.")
-    return t, steps
-
-
-def _finite_motion(name, what, values):
-    bad = np.flatnonzero(~np.isfinite(values))
-    if bad.size:
-        raise InputError(f"The '{name}' samples overflow: their {what} are not finite from "
-                         f"index {bad[0]} on. Use SI units (m, m/s, s) of a physical size.")
+    return t
 
 
 def _check_continuation(state, t, x, v):
@@ -124,26 +130,26 @@ def make_path(t, x=None, v=None, state=None) -> Path:
     if (x is None) == (v is None):
         raise InputError("Give exactly one of 'x' (displacement) and 'v' (velocity). Got "
                          + ("both." if x is not None else "neither."))
-    t, h = _time(t)
+    from polind.kernels.contract import NOT_FINITE, OVERFLOW, cut_path
+
+    t = _time(t)
     n = t.shape[0]
-    step = np.concatenate(([0.0], h))
-    with np.errstate(over="ignore", invalid="ignore"):
-        if x is not None:
-            x = as_samples("x", x, n)
-            displacement = np.concatenate(([0.0], np.diff(x)))
-            step_velocity = np.concatenate(([0.0], displacement[1:] / h))
-            _finite_motion("x", "step velocities", step_velocity)
-            sample_velocity = step_velocity.copy()
-            sample_velocity[0] = step_velocity[1] if state is None else state.velocity
-        else:
-            sample_velocity = as_samples("v", v, n)
-            step_velocity = np.concatenate(([0.0], 0.5 * (sample_velocity[:-1]
-                                                          + sample_velocity[1:])))
-            displacement = step_velocity * step
-            start = 0.0 if state is None else state.position
-            # Accumulate sequentially from the start so a chunked run adds in the same order.
-            x = np.add.accumulate(np.concatenate(([start], displacement[1:])))
-            _finite_motion("v", "integrated displacements", x)
+    name = "x" if x is not None else "v"
+    motion = _converted(name, x if x is not None else v, n)
+    step, displacement, step_velocity = np.empty(n), np.empty(n), np.empty(n)
+    if x is not None:
+        x, sample_velocity = motion, np.empty(n)
+    else:
+        x, sample_velocity = np.empty(n), motion
+    code, index = cut_path(t, motion, x is not motion, 0.0 if state is None else state.position,
+                           0.0 if state is None else state.velocity, state is not None, step,
+                           displacement, step_velocity, sample_velocity, x)
+    if code == NOT_FINITE:
+        raise _not_finite(name, motion, index)
+    if code == OVERFLOW:
+        what = "step velocities" if name == "x" else "integrated displacements"
+        raise InputError(f"The '{name}' samples overflow: their {what} are not finite from "
+                         f"index {index} on. Use SI units (m, m/s, s) of a physical size.")
     return Path(t=t, x=x, step=step, displacement=displacement, step_velocity=step_velocity,
                 sample_velocity=sample_velocity)
 

@@ -31,7 +31,15 @@ globals but not functions passed as arguments.
 
 from __future__ import annotations
 
+import math
+
 from polind.kernels import jit
+
+# Codes of :func:`check_times` and :func:`cut_path` (with the index of the first bad sample).
+VALID = 0
+NOT_FINITE = 1         # a sample that is not finite
+NOT_INCREASING = 2     # t[k] <= t[k - 1]
+OVERFLOW = 3           # finite samples, non-finite step velocities or positions
 
 
 @jit(inline="always")
@@ -67,3 +75,68 @@ def run_steps_any(step, force, scalars, table, state, step_length, displacement,
     """:func:`run_steps` for any model's functions (passed as arguments, not inlined)."""
     run_steps(step, force, scalars, table, state, step_length, displacement, step_velocity,
               sample_velocity, loads, constant_load, lo, hi, first, out_force)
+
+
+@jit(fastmath=False)
+def check_times(t):
+    """``(code, index)``: the first non-finite sample time, else the first not after its predecessor."""
+    for k in range(t.shape[0]):
+        if not math.isfinite(t[k]):
+            return NOT_FINITE, k
+    for k in range(1, t.shape[0]):
+        if not t[k] > t[k - 1]:
+            return NOT_INCREASING, k
+    return VALID, -1
+
+
+@jit(fastmath=False)
+def cut_path(t, motion, by_velocity, start_position, start_velocity, continuing, step,
+             displacement, step_velocity, sample_velocity, position):
+    """Cut a prescribed motion into steps at constant velocity, in one pass (the user guide).
+
+    ``motion`` is the positions (``by_velocity`` false: linear between
+    samples, step velocity ``(x[k] - x[k-1]) / h``, reported at sample ``k``;
+    at sample 0 the first step's, or ``start_velocity`` when ``continuing``)
+    or the velocities (each step at the mean of its end samples, positions
+    the trapezoidal integral from ``start_position``, added in order).  Fills
+    the five arrays indexed by the sample a step ends at (entry 0 of
+    ``step``, ``displacement`` and ``step_velocity`` is 0); ``position`` is
+    filled only with velocities.  Plain IEEE arithmetic, the same as NumPy's
+    ``diff`` and ``/``.  Returns ``(code, index)``: :data:`NOT_FINITE` for a
+    non-finite motion sample, :data:`OVERFLOW` where finite samples give a
+    non-finite step velocity or position, else :data:`VALID`.
+    """
+    n = t.shape[0]
+    for k in range(n):
+        if not math.isfinite(motion[k]):
+            return NOT_FINITE, k
+    step[0] = 0.0
+    displacement[0] = 0.0
+    step_velocity[0] = 0.0
+    if by_velocity:
+        position[0] = start_position
+    for k in range(1, n):
+        h = t[k] - t[k - 1]
+        step[k] = h
+        if by_velocity:
+            velocity = 0.5 * (motion[k - 1] + motion[k])
+            increment = velocity * h
+            position[k] = position[k - 1] + increment
+            sample_velocity[k] = motion[k]
+        else:
+            increment = motion[k] - motion[k - 1]
+            velocity = increment / h
+            sample_velocity[k] = velocity
+        displacement[k] = increment
+        step_velocity[k] = velocity
+    if by_velocity:
+        sample_velocity[0] = motion[0]
+        for k in range(n):
+            if not math.isfinite(position[k]):
+                return OVERFLOW, k
+    else:
+        sample_velocity[0] = start_velocity if continuing else step_velocity[1]
+        for k in range(1, n):
+            if not math.isfinite(step_velocity[k]):
+                return OVERFLOW, k
+    return VALID, -1
