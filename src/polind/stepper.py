@@ -29,6 +29,8 @@ from polind.validation import check_number
 
 __all__ = ["Stepper", "Body"]
 
+_INF = math.inf
+
 
 def _check_model(model, owner):
     if not isinstance(model, FrictionModel):
@@ -195,7 +197,7 @@ class Stepper:
         if type(t) is not float:
             t = check_number("Stepper.advance", "t", t)
         step = t - self._time
-        if not step > 0.0 or step == math.inf:
+        if not 0.0 < step < _INF:
             raise InputError(f"The 't' of Stepper.advance must be finite and after the current "
                              f"time {self._time!r}. Got {t!r} instead.")
         if v is None:
@@ -205,7 +207,7 @@ class Stepper:
                 x = check_number("Stepper.advance", "x", x)
             displacement = x - self._position
             step_velocity = displacement / step
-            if not -math.inf < step_velocity < math.inf:
+            if step_velocity - step_velocity != 0.0:      # inf or nan
                 raise InputError(f"The 'x' of Stepper.advance must be finite, with a finite step "
                                  f"velocity. Got x = {x!r} at t = {t!r}.")
             sample_velocity = step_velocity
@@ -218,7 +220,7 @@ class Stepper:
             step_velocity = 0.5 * (self._velocity + v)
             displacement = step_velocity * step
             position = self._position + displacement
-            if not -math.inf < position < math.inf:
+            if position - position != 0.0:                # inf or nan
                 raise InputError(f"The 'v' of Stepper.advance must be finite, with a finite "
                                  f"position. Got v = {v!r} at t = {t!r}.")
             sample_velocity = v
