@@ -295,11 +295,13 @@ def test_unknown_nested_key_is_named():
         polind.model_from_dict({"model": table})
 
 
-def test_normal_load_array_is_for_pol_ind_only_and_must_be_positive():
+def test_normal_load_array_must_be_positive_and_a_model_without_load_ignores_it():
     t = np.linspace(0.0, 1.0, 5)
     coulomb = polind.model_from_dict({"model": {"type": "coulomb", "coulomb_force": 1.0}})
-    with pytest.raises(polind.InputError, match="normal_load"):
+    with pytest.warns(UserWarning, match="ignores the normal-load signal"):
         polind.simulate(coulomb, t, x=t, normal_load=np.ones(5))
+    with pytest.raises(polind.InputError, match="normal_load"):
+        polind.simulate(coulomb, t, x=t, normal_load=-np.ones(5))
     with pytest.raises(polind.InputError, match="normal_load"):
         polind.simulate(pol_ind(), t, x=t, normal_load=np.array([1.0, 2.0, -1.0, 1.0, 1.0]))
 

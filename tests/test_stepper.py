@@ -187,13 +187,22 @@ def test_a_stuck_body_holds_still_with_stiff_elements():
     ({"t": 1.0, "x": 0.0, "v": 0.0}, "exactly one"),
     ({"t": 1.0, "x": "0.1"}, "'x' parameter of Stepper.advance must be a number"),
     ({"t": 1.0, "x": 1j}, "'x' parameter of Stepper.advance must be a number"),
-    ({"t": 1.0, "x": 0.0, "normal_load": 10.0}, "pol-ind model only"),
+    ({"t": 1.0, "x": 0.0, "normal_load": -10.0}, "'normal_load' parameter of Stepper must be positive"),
 ])
 def test_stepper_refuses_bad_samples(bad, message):
     stepper = polind.Stepper(lib(ALL["lugre"]))
     with pytest.raises(polind.InputError, match=message):
         stepper.advance(**bad)
     assert stepper.time == 0.0                       # nothing advanced
+
+
+def test_a_load_signal_a_model_ignores_is_said_once_and_changes_nothing():
+    model = lib(ALL["lugre"])
+    plain, loaded = polind.Stepper(model), polind.Stepper(model)
+    with pytest.warns(UserWarning, match="ignores the normal-load signal") as record:
+        forces = [loaded.advance(k * 1e-3, x=1e-6 * k, normal_load=5.0 + k) for k in (1, 2, 3)]
+    assert len(record) == 1
+    assert forces == [plain.advance(k * 1e-3, x=1e-6 * k) for k in (1, 2, 3)]
 
 
 def test_stepper_refuses_a_load_the_pol_ind_table_cannot_take():

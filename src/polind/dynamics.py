@@ -174,8 +174,7 @@ def initial_friction(kernel, velocity, applied):
     """
     if kernel.rest_capacity is not None and velocity == 0.0:
         return min(max(applied, -kernel.rest_capacity), kernel.rest_capacity)
-    return float(kernel.force(kernel.scalars, kernel.table, kernel.state, velocity,
-                              kernel.normal_load))
+    return kernel.first_force(velocity)
 
 
 def _finite(name, value):

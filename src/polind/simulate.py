@@ -15,7 +15,7 @@ import numpy as np
 from polind.errors import InputError, describe
 from polind.models import FrictionModel, Path, State
 
-__all__ = ["SimulationResult", "simulate", "as_samples", "CHUNK"]
+__all__ = ["SimulationResult", "simulate", "as_samples", "warn_ignored_load", "CHUNK"]
 
 #: Samples per kernel call in a long run (bounded memory per call, progress between calls).
 CHUNK = 1 << 18
@@ -31,7 +31,8 @@ class SimulationResult:
         Time [s], displacement [m], velocity [m/s] and friction force [N] at
         every sample, float64, same length.
     normal_load : ndarray or None
-        The normal load [N] used at every sample (Pol-Ind only).
+        The normal load [N] used at every sample (None when none was given
+        or the model ignores it).
     final_state : State
         Pass it as ``state=`` to continue the run.
     """
@@ -77,6 +78,15 @@ def as_samples(name, values, length=None, *, positive=False):
             raise InputError(f"The '{name}' samples must be positive. Got {float(array[bad[0]])!r} at "
                              f"index {bad[0]} instead.")
     return array
+
+
+def warn_ignored_load(model) -> None:
+    """Say (a ``UserWarning``, once per place in the caller's code) that a load signal is ignored."""
+    import warnings
+
+    warnings.warn(f"The {model.type} model ignores the normal-load signal: give it a "
+                  f"'reference_load' (N) to scale its friction with the load.", UserWarning,
+                  stacklevel=3)
 
 
 def _time(t):
@@ -169,8 +179,11 @@ def simulate(model: FrictionModel, t, x=None, v=None, *, normal_load=None,
         Exactly one: displacement [m] (linear between samples) or velocity
         [m/s] (trapezoidal).
     normal_load : array_like, optional
-        Normal load [N] at every sample, positive (``pol-ind`` only; without
-        it the model's constant ``normal_load`` applies).
+        Normal load [N] at every sample, positive.  ``pol-ind`` uses it
+        through its contact mechanics; any other model scales its force by
+        ``N / reference_load`` (the load-proportional form of the user guide)
+        when it has a ``reference_load``, and otherwise ignores it with a
+        ``UserWarning``.  Without it the model's own constant load applies.
     state : State, optional
         A previous result's ``final_state``.  Start the chunk with the
         previous chunk's last sample repeated; the force there equals the
@@ -209,10 +222,10 @@ def simulate(model: FrictionModel, t, x=None, v=None, *, normal_load=None,
         _check_continuation(state, path.t, x, v)
     load = None
     if normal_load is not None:
-        if not model.takes_normal_load:
-            raise InputError(f"A 'normal_load' array applies to the pol-ind model only; the "
-                             f"model is '{model.type}'.")
         load = as_samples("normal_load", normal_load, path.t.shape[0], positive=True)
+        if not model.uses_normal_load:
+            warn_ignored_load(model)
+            load = None
     run_state = state.copy() if state is not None else model.initial_state(load)
     if load is not None:
         model.check_loads(load, run_state)

@@ -49,20 +49,29 @@ def _start_state(model, state, owner):
 
 
 class _LoadCheck:
-    """The normal loads a model accepts, checked per sample without building arrays."""
+    """The normal loads a model accepts, checked per sample without building arrays.
+
+    A model that ignores a load signal (no ``reference_load``) says so once
+    (a ``UserWarning``) and runs at its own constant load.
+    """
 
     def __init__(self, model, state, owner):
         self.model = model
         self.state = state
         self.owner = owner
-        self.takes_load = model.takes_normal_load
-        self.bounds = model.load_bounds(state) if self.takes_load else None
+        self.takes_load = model.uses_normal_load
+        self.constant = float(model.constant_load)
+        self.bounds = model.load_bounds(state) if model.takes_normal_load else (0.0, math.inf)
+        self.warned = False
 
     def __call__(self, normal_load):
-        if not self.takes_load:
-            raise InputError(f"A 'normal_load' applies to the pol-ind model only; the model is "
-                             f"'{self.model.type}'.")
         load = check_number(self.owner, "normal_load", normal_load, "positive")
+        if not self.takes_load:
+            if not self.warned:
+                from polind.simulate import warn_ignored_load
+                warn_ignored_load(self.model)
+                self.warned = True
+            return self.constant
         low, high = self.bounds
         if not low <= load <= high:
             self.model.check_loads(np.array([load]), self.state)
@@ -139,9 +148,11 @@ class Stepper:
                                      f"state is given. Got {given!r} instead.")
         self._model = model
         self._template = start
-        kernel = model.step_kernel(start)
+        kernel = model.step_kernel(start, varying_load=True)
         self._kernel = kernel
         self._step = kernel.step
+        # A mounted contact (series spring, load scaling) runs one-sample paths instead.
+        self._path = None if kernel.mount is None else np.zeros((6, 2))
         self._scalars, self._table, self._flat = kernel.scalars, kernel.table, kernel.state
         self._load = kernel.normal_load
         self._check_load = _LoadCheck(model, start, "Stepper")
@@ -150,8 +161,7 @@ class Stepper:
             self._velocity, self._force = state.velocity, state.force
         else:
             self._time, self._position, self._velocity = time, position, velocity
-            self._force = float(kernel.force(self._scalars, self._table, self._flat,
-                                             self._velocity, self._load))
+            self._force = kernel.first_force(self._velocity)
 
     @property
     def force(self) -> float:
@@ -225,11 +235,24 @@ class Stepper:
                                  f"position. Got v = {v!r} at t = {t!r}.")
             sample_velocity = v
         load = self._load if normal_load is None else self._check_load(normal_load)
-        force = self._step(self._scalars, self._table, self._flat, step, displacement,
-                           step_velocity, sample_velocity, load)
+        if self._path is None:
+            force = self._step(self._scalars, self._table, self._flat, step, displacement,
+                               step_velocity, sample_velocity, load)
+        else:
+            force = self._mounted_step(step, displacement, step_velocity, sample_velocity, load)
         self._time, self._position, self._velocity, self._force = t, position, \
             sample_velocity, force
         return force
+
+
+    def _mounted_step(self, step, displacement, step_velocity, sample_velocity, load):
+        """One step of a mounted contact: a one-step path through the kernel's runner."""
+        path = self._path
+        path[0, 1], path[1, 1], path[2, 1], path[3, 1] = step, displacement, step_velocity, \
+            sample_velocity
+        path[4, :] = load
+        self._kernel.run(path[0], path[1], path[2], path[3], path[4], 0, 2, False, path[5])
+        return float(path[5, 1])
 
 
 class Body:
@@ -294,7 +317,7 @@ class Body:
         position = check_number("Body", "position", position)
         velocity = check_number("Body", "velocity", velocity)
         start = _start_state(model, state, "Body")
-        kernel = model.step_kernel(start)
+        kernel = model.step_kernel(start, varying_load=True)
         self._model = model
         self._template = start
         self._kernel = kernel
@@ -305,7 +328,7 @@ class Body:
         self._steps = 0
         self._memoryless = kernel.rest_capacity is not None
         self._rest_capacity = kernel.rest_capacity if self._memoryless else 0.0
-        self._scratch = np.empty_like(kernel.state)
+        self._scratch = kernel.scratch
         self._check_load = _LoadCheck(model, start, "Body")
         friction = initial_friction(kernel, velocity, 0.0)
         # [x_n, v_n, v_{n-1}, w_n, history, friction]: what the next step needs.

@@ -83,6 +83,7 @@ import math
 import numpy as np
 
 from polind.kernels import jit
+from polind.kernels.mount import load_ratio
 from polind.kernels.stribeck import sign
 
 # Momentum schemes (the ``method`` argument).
@@ -94,31 +95,48 @@ MAX_ITERATIONS = 200
 
 
 @jit(inline="always")
-def _trial(step_function, tangent_function, memoryless, scalars, table, state, scratch,
-           velocity, step, sample_slope, sample_offset, normal_load):
+def bare_trial(step_function, tangent_function, memoryless, mount, scalars, table, state,
+               scratch, velocity, step, sample_slope, sample_offset, normal_load):
     """``(F(w), tangent)`` without touching ``state`` (the update runs on ``scratch``).
 
     A memoryless model is evaluated at the step velocity, so that ``w = 0``
     is its stick; a model with state takes its rate terms at the body's
-    velocity at the sample, ``sample_slope * w + sample_offset``.
+    velocity at the sample, ``sample_slope * w + sample_offset``.  ``mount``
+    is not used: this is the trial of a model with nothing around its
+    contact (:mod:`polind.kernels.mount` has the trial of a mounted one).
     """
-    scratch[:] = state
+    n = state.shape[0]
+    work = scratch[:n]
+    work[:] = state
     sample_velocity = velocity if memoryless else sample_slope * velocity + sample_offset
-    force = step_function(scalars, table, scratch, step, velocity * step, velocity,
+    force = step_function(scalars, table, work, step, velocity * step, velocity,
                           sample_velocity, normal_load)
-    return force, tangent_function(scalars, table, scratch, step)
+    return force, tangent_function(scalars, table, work, step)
 
 
 @jit(inline="always")
-def solve_step(step_function, tangent_function, memoryless, rest_capacity, force_scale,
-               scalars, table, state, scratch, inertia, known, guess, step, position,
+def bare_commit(step_function, tangent_function, mount, scalars, table, state, scratch, step,
+                displacement, step_velocity, sample_velocity, normal_load):
+    """Advance ``state`` over the accepted step and return the force (nothing around the contact)."""
+    return step_function(scalars, table, state, step, displacement, step_velocity,
+                         sample_velocity, normal_load)
+
+
+@jit(inline="always")
+def solve_step(trial, step_function, tangent_function, memoryless, rest_capacity, force_scale,
+               mount, scalars, table, state, scratch, inertia, known, guess, step, position,
                sample_slope, sample_offset, normal_load):
     """Solve ``inertia w + F(w) = known`` for the step velocity ``w``.
 
-    The body's velocity at the end of the step, at which the friction's rate
+    ``trial`` evaluates ``(F(w), dF/dw)`` on ``scratch`` without touching
+    ``state`` (:func:`bare_trial`, or the trial of a mounted contact in
+    :mod:`polind.kernels.mount`, which passes ``mount`` on).  The body's velocity at the end of the step, at which the friction's rate
     terms are taken, is ``sample_slope * w + sample_offset``.  Returns
     ``(w, held)``; ``held`` is true when a memoryless model sticks (``w = 0``
     and the friction is ``known``).
+
+    A memoryless model's ``rest_capacity`` is that at the mount's reference
+    load, scaled by ``load_ratio`` (:mod:`polind.kernels.mount`).
 
     ``position`` is ``x_n``.  The new position ``x_n + h w`` is rounded to a
     float, so ``w`` matters only to within ``quantum = ulp(x_n) / h``: the
@@ -129,15 +147,16 @@ def solve_step(step_function, tangent_function, memoryless, rest_capacity, force
     quantum = (np.nextafter(abs(position), np.inf) - abs(position)) / step
     tolerance = max(RTOL * (abs(known) + force_scale), 0.5 * inertia * quantum)
     if memoryless:
-        if abs(known) <= rest_capacity:
+        capacity = rest_capacity * load_ratio(mount, normal_load)
+        if abs(known) <= capacity:
             return 0.0, True
         direction = sign(known)
-        residual_at_zero = direction * rest_capacity - known  # R(0+) or R(0-)
+        residual_at_zero = direction * capacity - known  # R(0+) or R(0-)
         tangent_at_zero = tangent_function(scalars, table, state, step)
     else:
-        force, tangent_at_zero = _trial(step_function, tangent_function, memoryless, scalars,
-                                        table, state, scratch, 0.0, step, sample_slope,
-                                        sample_offset, normal_load)
+        force, tangent_at_zero = trial(step_function, tangent_function, memoryless, mount,
+                                       scalars, table, state, scratch, 0.0, step, sample_slope,
+                                       sample_offset, normal_load)
         residual_at_zero = force - known
         if abs(residual_at_zero) <= max(tolerance,
                                          0.5 * (inertia + tangent_at_zero) * quantum):
@@ -162,9 +181,9 @@ def solve_step(step_function, tangent_function, memoryless, rest_capacity, force
     best_residual = np.inf
     jump_checked = False
     for iteration in range(MAX_ITERATIONS):
-        force, tangent = _trial(step_function, tangent_function, memoryless, scalars, table,
-                                state, scratch, velocity, step, sample_slope, sample_offset,
-                                normal_load)
+        force, tangent = trial(step_function, tangent_function, memoryless, mount, scalars,
+                               table, state, scratch, velocity, step, sample_slope,
+                               sample_offset, normal_load)
         residual = inertia * velocity + force - known
         if abs(residual) < best_residual:
             best_velocity, best_residual = velocity, abs(residual)
@@ -258,17 +277,18 @@ def momentum_terms(second_order, mass, drive_stiffness, step, external, velocity
 
 
 @jit(inline="always")
-def body_step(step_function, tangent_function, memoryless, rest_capacity, force_scale,
-              scalars, table, state, scratch, method, mass, drive_stiffness, step, external,
-              position, velocity, previous_velocity, previous_step_velocity, history,
-              normal_load):
+def body_step(trial, commit, step_function, tangent_function, memoryless, rest_capacity,
+              force_scale, mount, scalars, table, state, scratch, method, mass, drive_stiffness,
+              step, external, position, velocity, previous_velocity, previous_step_velocity,
+              history, normal_load):
     """One implicit step of the body (the scheme of the module notes).
 
     ``external`` is the force on the body over the step other than friction,
     with the drive spring taken at the previous position (its stiffness
     ``drive_stiffness`` enters the implicit equation).  ``velocity`` and
     ``previous_velocity`` are ``v_n`` and ``v_{n-1}``; ``history`` whether a
-    BDF2 step may use them.  ``state`` is committed in place.
+    BDF2 step may use them.  ``state`` is committed in place by ``commit``
+    (:func:`bare_commit` or a mounted contact's, with ``trial`` to match).
 
     Returns ``(x, v, F, step_velocity, history)`` at the end of the step.
 
@@ -281,29 +301,49 @@ def body_step(step_function, tangent_function, memoryless, rest_capacity, force_
     sample_slope, sample_offset, inertia, known = momentum_terms(
         method == BDF2 and history, mass, drive_stiffness, step, external, velocity,
         previous_velocity, previous_step_velocity)
-    step_velocity, stuck = solve_step(step_function, tangent_function, memoryless, rest_capacity,
-                                      force_scale, scalars, table, state, scratch, inertia,
-                                      known, previous_step_velocity, step, position,
-                                      sample_slope, sample_offset, normal_load)
+    step_velocity, stuck = solve_step(trial, step_function, tangent_function, memoryless,
+                                      rest_capacity, force_scale, mount, scalars, table, state,
+                                      scratch, inertia, known, previous_step_velocity, step,
+                                      position, sample_slope, sample_offset, normal_load)
     if stuck:
         return position, 0.0, known, 0.0, False
     new_position, displacement = rounded_motion(position, step, step_velocity)
     step_velocity = displacement / step
     new_velocity = sample_slope * step_velocity + sample_offset
     sample_velocity = step_velocity if memoryless else new_velocity
-    friction = step_function(scalars, table, state, step, displacement, step_velocity,
-                             sample_velocity, normal_load)
+    friction = commit(step_function, tangent_function, mount, scalars, table, state, scratch, step,
+                      displacement, step_velocity, sample_velocity, normal_load)
     return new_position, new_velocity, friction, step_velocity, True
 
 
 @jit(inline="always")
+def bare_body_step(step_function, tangent_function, memoryless, rest_capacity, force_scale,
+                   mount, scalars, table, state, scratch, method, mass, drive_stiffness, step,
+                   external, position, velocity, previous_velocity, previous_step_velocity,
+                   history, normal_load):
+    """:func:`body_step` of a model with nothing around its contact."""
+    return body_step(bare_trial, bare_commit, step_function, tangent_function, memoryless,
+                     rest_capacity, force_scale, mount, scalars, table, state, scratch, method,
+                     mass, drive_stiffness, step, external, position, velocity,
+                     previous_velocity, previous_step_velocity, history, normal_load)
+
+
+@jit(inline="always")
 def integrate_system_template(step_function, tangent_function, arguments):
+    """:func:`integrate_system_with` for a model with nothing around its contact."""
+    integrate_system_with(bare_body_step, step_function, tangent_function, arguments)
+
+
+@jit(inline="always")
+def integrate_system_with(stepper, step_function, tangent_function, arguments):
     """Integrate the 1-DOF system over the samples ``t``; fill the output arrays.
 
     ``arguments`` is the tuple ``(memoryless, rest_capacity, force_scale,
     scalars, table, state, t, mass, drive_stiffness, drive_velocity, offset,
     rate, amplitude, frequency, applied_steps, method, normal_load, x, v,
-    force, applied, start, stop, carry)``.
+    force, applied, start, stop, carry, mount)``.  ``stepper`` is
+    :func:`bare_body_step`, or the body step of a mounted contact
+    (:mod:`polind.kernels.series`), the one reader of ``mount``.
 
     On entry ``x[0]``, ``v[0]`` and ``force[0]`` hold the initial position,
     velocity and friction force, and ``state`` the model state; on exit
@@ -326,9 +366,11 @@ def integrate_system_template(step_function, tangent_function, arguments):
     """
     (memoryless, rest_capacity, force_scale, scalars, table, state, t, mass, drive_stiffness,
      drive_velocity, offset, rate, amplitude, frequency, applied_steps, method, normal_load,
-     x, v, force, applied, start, stop, carry) = arguments
+     x, v, force, applied, start, stop, carry, mount) = arguments
     angular_frequency = 2.0 * math.pi * frequency
-    scratch = np.empty_like(state)
+    # Two state-sized work arrays: a trial's state and, for a contact behind a
+    # series spring, the trials of its own solve.
+    scratch = np.empty(2 * state.shape[0])
     driven = applied_steps.shape[0] > 0
     previous_step_velocity = carry[0]
     history = carry[1] != 0.0   # a BDF2 step needs one regular step before it
@@ -340,9 +382,9 @@ def integrate_system_template(step_function, tangent_function, arguments):
             external = applied_force(t[k], x[k - 1], drive_stiffness, drive_velocity, offset,
                                      rate, amplitude, angular_frequency)
         previous_velocity = v[k - 2] if k >= 2 else v[k - 1]
-        x[k], v[k], force[k], previous_step_velocity, history = body_step(
-            step_function, tangent_function, memoryless, rest_capacity, force_scale, scalars,
-            table, state, scratch, method, mass, drive_stiffness, step, external, x[k - 1],
+        x[k], v[k], force[k], previous_step_velocity, history = stepper(
+            step_function, tangent_function, memoryless, rest_capacity,
+            force_scale, mount, scalars, table, state, scratch, method, mass, drive_stiffness, step, external, x[k - 1],
             v[k - 1], previous_velocity, previous_step_velocity, history, normal_load)
         if driven:
             applied[k] = applied_steps[k] if k < applied_steps.shape[0] else applied_steps[k - 1]
@@ -355,21 +397,28 @@ def integrate_system_template(step_function, tangent_function, arguments):
 
 @jit(inline="always")
 def advance_body_template(step_function, tangent_function, arguments):
+    """:func:`advance_body_with` for a model with nothing around its contact."""
+    advance_body_with(bare_body_step, step_function, tangent_function, arguments)
+
+
+@jit(inline="always")
+def advance_body_with(stepper, step_function, tangent_function, arguments):
     """One step of :class:`polind.Body`: :func:`body_step` with its state in ``body``.
 
     ``arguments`` is the tuple ``(memoryless, rest_capacity, force_scale,
     scalars, table, state, scratch, method, mass, step, external, body,
-    normal_load)``; ``body`` is ``[x_n, v_n, v_{n-1}, w_n, history,
-    friction]`` and is updated in place.  The same arithmetic as
+    normal_load, mount)``; ``scratch`` has twice the length of ``state``;
+    ``body`` is ``[x_n, v_n, v_{n-1}, w_n, history, friction]`` and is
+    updated in place.  The same arithmetic as
     :func:`integrate_system_template` driven by ``applied_steps``, so a loop
     of these equals one run of it.
     """
     (memoryless, rest_capacity, force_scale, scalars, table, state, scratch, method, mass, step,
-     external, body, normal_load) = arguments
-    x, v, friction, step_velocity, history = body_step(
-        step_function, tangent_function, memoryless, rest_capacity, force_scale, scalars, table,
-        state, scratch, method, mass, 0.0, step, external, body[0], body[1], body[2], body[3],
-        body[4] != 0.0, normal_load)
+     external, body, normal_load, mount) = arguments
+    x, v, friction, step_velocity, history = stepper(
+        step_function, tangent_function, memoryless, rest_capacity, force_scale,
+        mount, scalars, table, state, scratch, method, mass, 0.0, step, external, body[0],
+        body[1], body[2], body[3], body[4] != 0.0, normal_load)
     body[2] = body[1]
     body[0] = x
     body[1] = v

@@ -18,7 +18,7 @@ from typing import ClassVar
 import numpy as np
 
 from polind.errors import InputError, describe
-from polind.models.params import validate_table
+from polind.models.params import Param, Table, validate_table
 
 MODEL_TYPES: dict[str, type] = {}
 
@@ -230,7 +230,13 @@ class StepKernel:
         A typical friction force [N] (the solvers' tolerances scale with it).
     rest_capacity : float or None
         For a memoryless model, the largest force it holds at rest (``g(0)``,
-        its friction is set-valued there); None for models with state.
+        its friction is set-valued there); None for models with state (and
+        for a memoryless contact behind a series spring: the spring is state).
+    mount : ndarray or None
+        What sits around the contact (:mod:`polind.kernels.mount`): a series
+        spring, a normal-load scaling; None when nothing does.  A mounted
+        model runs through :mod:`polind.kernels.series`, and ``step`` is then
+        the bare contact's.
     """
 
     step: object
@@ -245,12 +251,38 @@ class StepKernel:
     normal_load: float
     force_scale: float
     rest_capacity: float | None
+    mount: np.ndarray | None = None
+
+    def __post_init__(self):
+        # A trial's state and, behind a series spring, the spring's own solve.
+        self.scratch = np.empty(2 * self.state.shape[0])
+
+    def first_force(self, sample_velocity, normal_load=None):
+        """The force at the state without moving (the first sample of a run) [N].
+
+        Behind a series spring it is the spring's force (0 at rest); else the
+        model's ``force`` at ``sample_velocity``, scaled by the load.
+        """
+        load = self.normal_load if normal_load is None else normal_load
+        if self.mount is None:
+            return float(self.force(self.scalars, self.table, self.state, sample_velocity, load))
+        from polind.kernels.mount import SPRING_FORCE, STIFFNESS, scaled_force
+        if self.mount[STIFFNESS] < math.inf:
+            return float(self.mount[SPRING_FORCE])
+        force = self.force(self.scalars, self.table, self.state, sample_velocity, load)
+        return float(scaled_force(self.mount, force, sample_velocity, load))
 
     def run(self, step, displacement, step_velocity, sample_velocity, loads, lo, hi, first,
             out_force):
         """Run the path arrays (indexed by the sample a step ends at) over ``lo .. hi - 1``."""
         loads = _NO_LOADS if loads is None else loads
-        if self.path is not None:
+        if self.mount is not None:
+            from polind.kernels.series import run_mounted
+            run_mounted(self.step, self.force, self.tangent, self.mount, self.scalars,
+                        self.table, self.state, self.scratch, step, displacement,
+                        step_velocity, sample_velocity, loads, self.normal_load, lo, hi, first,
+                        out_force)
+        elif self.path is not None:
             self.path(self.scalars, self.table, self.state, step, displacement, step_velocity,
                       sample_velocity, loads, self.normal_load, lo, hi, first, out_force)
         else:
@@ -260,23 +292,45 @@ class StepKernel:
                           self.normal_load, lo, hi, first, out_force)
 
     def integrate_system(self, *args):
-        """``polind.kernels.dynamics.integrate_system_template`` with this model's functions."""
-        if self.integrate is not None:
-            self.integrate(args)
+        """``polind.kernels.dynamics.integrate_system_template`` with this model's functions.
+
+        ``args`` are the template's arguments without the final ``mount``
+        (added here).
+        """
+        if self.mount is not None:
+            from polind.kernels.series import integrate_system_mounted
+            integrate_system_mounted(self.step, self.tangent, args + (self.mount,))
+        elif self.integrate is not None:
+            self.integrate(args + (_RIGID,))
         else:
             from polind.kernels.dynamics import integrate_system
-            integrate_system(self.step, self.tangent, args)
+            integrate_system(self.step, self.tangent, args + (_RIGID,))
 
     def advance_body(self, *args):
-        """``polind.kernels.dynamics.advance_body_template`` with this model's functions."""
-        if self.body is not None:
-            self.body(args)
+        """``polind.kernels.dynamics.advance_body_template`` with this model's functions.
+
+        ``args`` are the template's arguments without the final ``mount``
+        (added here); its ``scratch`` is :attr:`scratch`.
+        """
+        if self.mount is not None:
+            from polind.kernels.series import advance_body_mounted
+            advance_body_mounted(self.step, self.tangent, args + (self.mount,))
+        elif self.body is not None:
+            self.body(args + (_RIGID,))
         else:
             from polind.kernels.dynamics import advance_body
-            advance_body(self.step, self.tangent, args)
+            advance_body(self.step, self.tangent, args + (_RIGID,))
 
 
 _NO_LOADS = np.zeros(0)
+# The mount of a model with nothing around its contact (polind.kernels.mount slots:
+# an infinitely stiff spring, no reference load).
+_RIGID = np.array([math.inf] + [0.0] * 8)
+
+#: The keys every model has besides its own (INTERFACE.md "Normal load for every
+#: model", "Series compliance"): added to each subclass's ``parameters``.
+REFERENCE_LOAD = Param("reference_load", default=None, unit="N")
+COMPLIANCE = Table("compliance", (Param("stiffness", unit="N/m"),), default=None)
 
 
 class FrictionModel:
@@ -315,6 +369,15 @@ class FrictionModel:
     fit_defaults: ClassVar[tuple] = ()
     #: List keys kept positive and summing to 1 while fitted (GMS weights).
     simplex_keys: ClassVar[tuple] = ()
+
+    def __init_subclass__(cls, **kwargs):
+        super().__init_subclass__(**kwargs)
+        # Every model may be mounted: a series spring, and (models without a
+        # load of their own) a reference load for the load-proportional form.
+        common = (COMPLIANCE,) if cls.takes_normal_load else (REFERENCE_LOAD, COMPLIANCE)
+        own = {entry.key for entry in cls.parameters}
+        cls.parameters = tuple(cls.parameters) + tuple(entry for entry in common
+                                                       if entry.key not in own)
 
     def __init__(self, **params):
         clean = validate_table(self.type, self.parameters, params)
@@ -402,8 +465,53 @@ class FrictionModel:
 
     @property
     def constant_load(self) -> float:
-        """The model's own normal load [N] when no signal is given (0: none)."""
-        return 0.0
+        """The model's own normal load [N] when no signal is given (0: none).
+
+        For a model that scales with the load, its ``reference_load``.
+        """
+        return float(self._params.get("reference_load") or 0.0)
+
+    def viscous_coefficient(self) -> float:
+        """sigma2 [N s/m]: the part of the force a normal load does not scale (user guide)."""
+        return float(self._params.get("viscous_coefficient", 0.0))
+
+    # --- what sits around the contact (the same for every model) -------------------------
+
+    @property
+    def reference_load(self) -> float | None:
+        """N0 [N] of the load-proportional form, or None (the model ignores a load signal)."""
+        return self._params.get("reference_load")
+
+    @property
+    def series_stiffness(self) -> float:
+        """k_s [N/m] of ``[model.compliance]``; ``inf`` without one (a rigid mount)."""
+        compliance = self._params.get("compliance")
+        return math.inf if compliance is None else float(compliance["stiffness"])
+
+    @property
+    def uses_normal_load(self) -> bool:
+        """Whether a normal-load signal changes the force (Pol-Ind, or a ``reference_load``)."""
+        return bool(self.takes_normal_load) or self.reference_load is not None
+
+    def mount_array(self, state: State, varying_load: bool) -> np.ndarray | None:
+        """The :mod:`polind.kernels.mount` array of a run from ``state``, or None if nothing is mounted.
+
+        A load scaling is mounted when the run may see loads other than the
+        reference (``varying_load``); a series spring always.  Behind a
+        spring the run starts with the spring carrying ``state.force``.
+        """
+        stiffness = self.series_stiffness
+        scaling = self.reference_load is not None and varying_load
+        if stiffness == math.inf and not scaling:
+            return None
+        from polind.kernels.mount import make_mount
+        compliant = stiffness < math.inf
+        spring_force = state.force if compliant else 0.0
+        return make_mount(
+            stiffness=stiffness, reference_load=self.reference_load if scaling else 0.0,
+            viscous=self.viscous_coefficient(), rest_capacity=self.rest_capacity(),
+            force_scale=self.force_scale(), spring_force=spring_force,
+            contact_position=state.position - (spring_force / stiffness if compliant else 0.0))
 
     # --- the stepping contract, built from the above -------------------------------------
 
@@ -443,7 +551,8 @@ class FrictionModel:
             state.variables[key] = np.array(flat[offset:offset + size], dtype=np.float64)
             offset += size
 
-    def step_kernel(self, state: State | None = None, normal_load=None) -> StepKernel:
+    def step_kernel(self, state: State | None = None, normal_load=None, *,
+                    varying_load=None) -> StepKernel:
         """The model as compiled code can step it: functions and flat arrays.
 
         Parameters
@@ -453,6 +562,10 @@ class FrictionModel:
         normal_load : array_like, optional
             The normal loads [N] the run will see (a Pol-Ind model builds its
             element table for the largest).
+        varying_load : bool, optional
+            Whether the run may see loads other than the model's own
+            (default: whether ``normal_load`` is given); a model with a
+            ``reference_load`` is then mounted with its load scaling.
 
         Returns
         -------
@@ -465,6 +578,12 @@ class FrictionModel:
             self.check_state(state)
         functions = self.step_functions()
         scalars, table = self.kernel_arrays(state)
+        if varying_load is None:
+            varying_load = normal_load is not None
+        mount = self.mount_array(state, varying_load)
+        rest_capacity = self.rest_capacity()
+        if mount is not None and self.series_stiffness < math.inf:
+            rest_capacity = None     # the spring is state: the mounted contact is not memoryless
         return StepKernel(
             step=functions.step, force=functions.force, tangent=functions.tangent,
             path=functions.path, integrate=functions.integrate, body=functions.body,
@@ -472,7 +591,7 @@ class FrictionModel:
             table=np.ascontiguousarray(np.atleast_2d(table), dtype=np.float64),
             state=np.ascontiguousarray(self.flat_state(state)),
             normal_load=float(self.constant_load), force_scale=float(self.force_scale()),
-            rest_capacity=self.rest_capacity())
+            rest_capacity=rest_capacity, mount=mount)
 
     def _advance(self, path: Path, state: State, normal_load) -> np.ndarray:
         """Run the model over ``path`` from ``state`` (updated in place); return forces."""

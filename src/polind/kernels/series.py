@@ -1,0 +1,176 @@
+"""A mounted contact (:mod:`polind.kernels.mount`): the series spring solved per step.
+
+Series compliance (the user guide, "Series compliance")
+-------------------------------------------------------
+The prescribed displacement ``x`` is that of the far end of a spring of
+stiffness ``k_s``; the contact moves by ``u`` and at every sample::
+
+    F = k_s (x - u) = F_contact(u)
+
+Over a step ``x`` advances by ``dx`` and the contact by ``du = h w`` at the
+constant contact velocity ``w``, with the model's own exact update at ``w``.
+With ``F_prev`` the spring's force at the previous sample, the step solves::
+
+    k_s h w + F_contact(w) = F_prev + k_s dx
+
+which is the implicit equation of a body with ``inertia = k_s h`` and a
+known right-hand side (:func:`polind.kernels.dynamics.solve_step`, the same
+safeguarded secant/bisection search with the model's tangent).  Where the
+contact force is non-decreasing in ``u`` (the Maxwell-slip family) the root
+is unique and, ``F_contact`` being piecewise linear in ``w`` there, found
+exactly; where it can fall (a Stribeck dip) the search starts from ``w =
+0`` and brackets outwards, i.e. it takes a root near the previous ``u``.  A
+memoryless contact holds (``w = 0``, ``F = F_prev + k_s dx``) while that
+force is within its ``g(0)``.  The contact's rate terms (``sigma2 v``,
+LuGre's ``sigma1 dz/dt``) are taken at the contact velocity ``w``.
+``k_s = inf`` is the rigid mount: the model's own step, unchanged.
+
+The force reported at a sample is the contact's, which equals the spring's
+``k_s (x - u)`` to the solver's tolerance (``1e-13`` of the force scale).
+The first sample of a run reports the spring's force of the state (0 for a
+model at rest): the spring carries what the contact carries.
+
+The runners here take the model's functions as arguments, so numba compiles
+them once per process per model (it cannot keep them in its on-disk cache);
+a model with nothing around its contact runs its own cached specialisations
+instead (:mod:`polind.kernels.contract`).
+"""
+
+from __future__ import annotations
+
+import math
+
+from polind.kernels import jit
+from polind.kernels.contract import sample_load
+from polind.kernels.dynamics import (advance_body_with, body_step, integrate_system_with,
+                                     solve_step)
+from polind.kernels.mount import (CONTACT_POSITION, CONTACT_VELOCITY, FORCE_SCALE, MEMORYLESS,
+                                  REST_CAPACITY, SPRING_FORCE, STIFFNESS, contact_step,
+                                  load_ratio, scaled_force)
+
+
+@jit(inline="always")
+def contact_trial(step_function, tangent_function, memoryless, mount, scalars, table, state,
+                  scratch, velocity, step, sample_slope, sample_offset, normal_load):
+    """``(F_contact(w), dF/dw)`` of the scaled contact on a copy of ``state`` (in ``scratch``)."""
+    n = state.shape[0]
+    work = scratch[:n]
+    work[:] = state
+    sample_velocity = velocity if memoryless else sample_slope * velocity + sample_offset
+    force = contact_step(step_function, mount, scalars, table, work, step, velocity * step,
+                         velocity, sample_velocity, normal_load)
+    return force, load_ratio(mount, normal_load) * tangent_function(scalars, table, work, step)
+
+
+@jit(cache=False)
+def mounted_step(step_function, tangent_function, mount, scalars, table, state, scratch, step,
+                 displacement, step_velocity, sample_velocity, normal_load):
+    """One step of the mounted contact: ``(F, du, w)``; ``state`` advanced, ``mount`` untouched.
+
+    ``displacement`` and ``step_velocity`` are the far end's (``x``);
+    ``scratch`` holds at least one state for the spring's solve.  Compiled
+    on its own (not inlined), once per model and process, and called by
+    every runner below: inlined into the body's solver it would put one
+    solver inside another and multiply the compile time.
+    """
+    stiffness = mount[STIFFNESS]
+    if stiffness == math.inf:
+        force = contact_step(step_function, mount, scalars, table, state, step, displacement,
+                             step_velocity, sample_velocity, normal_load)
+        return force, displacement, step_velocity
+    known = mount[SPRING_FORCE] + stiffness * displacement
+    velocity, held = solve_step(
+        contact_trial, step_function, tangent_function, mount[MEMORYLESS] != 0.0,
+        mount[REST_CAPACITY], mount[FORCE_SCALE], mount,
+        scalars, table, state, scratch, stiffness * step, known, mount[CONTACT_VELOCITY], step,
+        mount[CONTACT_POSITION], 1.0, 0.0, normal_load)
+    if held:
+        return known, 0.0, 0.0
+    contact_displacement = velocity * step
+    force = contact_step(step_function, mount, scalars, table, state, step, contact_displacement,
+                         velocity, velocity, normal_load)
+    return force, contact_displacement, velocity
+
+
+@jit(inline="always")
+def mounted_commit(step_function, tangent_function, mount, scalars, table, state, scratch, step,
+                   displacement, step_velocity, sample_velocity, normal_load):
+    """:func:`mounted_step` on the real state, remembering the spring's force and the contact."""
+    force, contact_displacement, contact_velocity = mounted_step(
+        step_function, tangent_function, mount, scalars, table, state, scratch, step,
+        displacement, step_velocity, sample_velocity, normal_load)
+    mount[SPRING_FORCE] = force
+    mount[CONTACT_POSITION] += contact_displacement
+    mount[CONTACT_VELOCITY] = contact_velocity
+    return force
+
+
+@jit(inline="always")
+def mounted_trial(step_function, tangent_function, memoryless, mount, scalars, table, state,
+                  scratch, velocity, step, sample_slope, sample_offset, normal_load):
+    """The body solver's trial of a mounted contact: ``(F(w), dF/dw)`` of the spring and contact.
+
+    ``scratch`` holds two states: the trial's and, behind it, the spring's
+    solve.  The tangent of the spring (``k_s h``) in series with the
+    contact's.
+    """
+    n = state.shape[0]
+    work = scratch[:n]
+    work[:] = state
+    sample_velocity = velocity if memoryless else sample_slope * velocity + sample_offset
+    force, contact_displacement, contact_velocity = mounted_step(
+        step_function, tangent_function, mount, scalars, table, work, scratch[n:], step,
+        velocity * step, velocity, sample_velocity, normal_load)
+    tangent = load_ratio(mount, normal_load) * tangent_function(scalars, table, work, step)
+    spring = mount[STIFFNESS] * step
+    if spring < math.inf:
+        total = spring + tangent
+        tangent = spring * tangent / total if total > 0.0 else 0.0
+    return force, tangent
+
+
+@jit(cache=False)
+def run_mounted(step_function, force_function, tangent_function, mount, scalars, table, state,
+                scratch, step_length, displacement, step_velocity, sample_velocity, loads,
+                constant_load, lo, hi, first, out_force):
+    """:func:`polind.kernels.contract.run_steps` for a mounted contact (any model's functions)."""
+    if first:
+        load = sample_load(loads, constant_load, lo)
+        if mount[STIFFNESS] < math.inf:
+            out_force[lo] = mount[SPRING_FORCE]
+        else:
+            force = force_function(scalars, table, state, sample_velocity[lo], load)
+            out_force[lo] = scaled_force(mount, force, sample_velocity[lo], load)
+    for k in range(lo + 1, hi):
+        out_force[k] = mounted_commit(step_function, tangent_function, mount, scalars, table,
+                                      state, scratch, step_length[k], displacement[k],
+                                      step_velocity[k], sample_velocity[k],
+                                      sample_load(loads, constant_load, k))
+
+
+@jit(cache=False)
+def mounted_body_step(step_function, tangent_function, memoryless, rest_capacity, force_scale,
+                      mount, scalars, table, state, scratch, method, mass, drive_stiffness, step,
+                      external, position, velocity, previous_velocity, previous_step_velocity,
+                      history, normal_load):
+    """:func:`polind.kernels.dynamics.body_step` of a mounted contact, compiled on its own.
+
+    The two runners below call it rather than inline it, so numba compiles
+    the body's solver around the spring's solver once per model, not twice.
+    """
+    return body_step(mounted_trial, mounted_commit, step_function, tangent_function, memoryless,
+                     rest_capacity, force_scale, mount, scalars, table, state, scratch, method,
+                     mass, drive_stiffness, step, external, position, velocity,
+                     previous_velocity, previous_step_velocity, history, normal_load)
+
+
+@jit(cache=False)
+def integrate_system_mounted(step_function, tangent_function, arguments):
+    """:func:`polind.kernels.dynamics.integrate_system_with` for a mounted contact."""
+    integrate_system_with(mounted_body_step, step_function, tangent_function, arguments)
+
+
+@jit(cache=False)
+def advance_body_mounted(step_function, tangent_function, arguments):
+    """:func:`polind.kernels.dynamics.advance_body_with` for a mounted contact."""
+    advance_body_with(mounted_body_step, step_function, tangent_function, arguments)
