@@ -267,3 +267,30 @@ def test_import_polind_does_not_import_python_control():
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                           timeout=120, check=True)
     assert done.stdout.strip() == "[]"
+
+
+@pytest.mark.parametrize("input_name", ["x", "v"])
+@pytest.mark.parametrize("model_type, mount", [
+    ("gms", {"compliance": {"stiffness": 3e4}}),
+    ("lugre", {"reference_load": 80.0}),
+    ("stribeck", {"reference_load": 80.0, "compliance": {"stiffness": 2e4}}),
+])
+def test_a_mounted_model_equals_simulate(model_type, mount, input_name):
+    model = lib({**ALL[model_type], **mount})
+    rng = np.random.default_rng(15)
+    t = _times()
+    motion = _smooth(rng, t, _amplitude(model_type) * (60 if input_name == "v" else 1))
+    load = 100.0 + 25.0 * np.cos(2 * np.pi * 7.0 * t)
+    uses_load = model.uses_normal_load
+    res = polind.simulate(model, t, normal_load=load if uses_load else None,
+                          **{input_name: motion})
+    system = friction_system(model, DT, input=input_name)
+    assert system.ninputs == (2 if uses_load else 1)
+    names = state_names(model)
+    assert names[-6:-3] == ["spring_force", "contact_position", "contact_velocity"]
+    x0 = initial_state(model) if input_name == "v" else \
+        initial_state(model, velocity=(motion[1] - motion[0]) / DT)
+    force = _force(_respond(system, t, motion, x0, load))
+    first = 1 if model.series_stiffness == np.inf else 0
+    assert_close(force[first:], res.force[first:], 1e-12, _scale(res.force),
+                 f"{model_type} mounted, {input_name}")

@@ -248,3 +248,22 @@ def test_a_fit_recovers_a_known_series_stiffness():
                               free=["compliance.stiffness"],
                               bounds={"compliance.stiffness": [1e3, 1e6]})
     assert fit.model.series_stiffness == pytest.approx(4e4, rel=0.01)
+
+
+def test_pol_ind_behind_a_spring_under_a_varying_load():
+    inner = {"type": "pol-ind", **_small_pol_ind()}
+    t, x = random_walk(600, 2e-7, seed=4)
+    load = inner["normal_load"] * (0.8 + 0.2 * np.sin(2 * np.pi * 2.0 * t))
+    rigid = polind.simulate(lib(inner), t, x=x, normal_load=load)
+    stiffness = lib(inner).characteristic_scales()["presliding_stiffness"]
+    stiff = polind.simulate(lib(_with(inner, compliance={"stiffness": 1e7 * stiffness})), t,
+                            x=x, normal_load=load)
+    scale = np.max(np.abs(rigid.force))
+    assert np.max(np.abs(stiff.force[2:] - rigid.force[2:])) <= 1e-5 * scale
+    model = lib(_with(inner, compliance={"stiffness": 0.5 * stiffness}))
+    res = polind.simulate(model, t, x=x, normal_load=load)
+    # The element table is built for the largest load of the run, as simulate does.
+    stepper = polind.Stepper(model, state=model.initial_state(load))
+    forces = [stepper.advance(float(tk), x=float(xk), normal_load=float(nk))
+              for tk, xk, nk in zip(t[1:], x[1:], load[1:])]
+    np.testing.assert_allclose(forces, res.force[1:], rtol=0, atol=1e-12 * scale)

@@ -28,6 +28,12 @@ step needs besides it:
     0 before the first sample, 1 after: the first sample has no step
     before it.
 
+A mounted model (a ``[model.compliance]`` spring, or a ``reference_load``:
+the user guide's "Series compliance" and "Normal load for every model")
+carries three more states between its own and ``position``
+(:data:`MOUNT_STATES`): the spring's force [N], the contact's position
+[m] and its last step velocity [m/s].
+
 :func:`initial_state` builds the vector (a model at rest, or a saved
 :class:`polind.State` to continue from).
 """
@@ -49,10 +55,23 @@ from polind.errors import InputError, describe
 from polind.stepper import _check_model, _LoadCheck, _start_state
 from polind.validation import check_number
 
-__all__ = ["friction_system", "initial_state", "state_names", "CARRIED_STATES"]
+__all__ = ["friction_system", "initial_state", "state_names", "CARRIED_STATES",
+           "MOUNT_STATES"]
 
 #: The states after the model's own, in this order (see the module notes).
 CARRIED_STATES = ("position", "velocity", "started")
+
+#: The states of a mounted model between its own and :data:`CARRIED_STATES`.
+MOUNT_STATES = ("spring_force", "contact_position", "contact_velocity")
+
+
+# The mount's work slots (polind.kernels.mount), in MOUNT_STATES order.
+_MOUNT_SLOTS = [6, 7, 8]
+
+
+def _mounted(model) -> bool:
+    """Whether the model runs mounted (a series spring, or a load scaling)."""
+    return model.series_stiffness < math.inf or model.reference_load is not None
 
 INPUTS = ("x", "v")
 
@@ -69,7 +88,7 @@ def state_names(model) -> list:
     for key in model._state_keys():
         size = np.size(rest.variables[key])
         names.extend(f"{key}[{i}]" for i in range(size))
-    return names + list(CARRIED_STATES)
+    return names + (list(MOUNT_STATES) if _mounted(model) else []) + list(CARRIED_STATES)
 
 
 def initial_state(model, state=None, *, position=None, velocity=None) -> np.ndarray:
@@ -121,6 +140,7 @@ def initial_state(model, state=None, *, position=None, velocity=None) -> np.ndar
             raise InputError(f"The state of the {model.type} model has {flat.shape[0]} entries; "
                              f"its friction_system has {expected}.")
         carried = (state.position, state.velocity, 1.0)
+        start = state
     else:
         flat = model.flat_state(model.initial_state())
         carried = (0.0 if position is None else check_number("initial_state", "position",
@@ -128,7 +148,15 @@ def initial_state(model, state=None, *, position=None, velocity=None) -> np.ndar
                    0.0 if velocity is None else check_number("initial_state", "velocity",
                                                              velocity),
                    0.0)
-    return np.concatenate((np.asarray(flat, dtype=np.float64), np.array(carried, dtype=float)))
+        start = model.initial_state()
+        start.position = carried[0]
+    mount = ()
+    if _mounted(model):
+        from polind.kernels.mount import CONTACT_POSITION, CONTACT_VELOCITY, SPRING_FORCE
+        array = model.mount_array(start, True)
+        mount = (array[SPRING_FORCE], array[CONTACT_POSITION], array[CONTACT_VELOCITY])
+    return np.concatenate((np.asarray(flat, dtype=np.float64), np.array(mount, dtype=float),
+                           np.array(carried, dtype=float)))
 
 
 def friction_system(model, dt, input="x", *, name=None):
@@ -153,8 +181,9 @@ def friction_system(model, dt, input="x", *, name=None):
     -------
     control.NonlinearIOSystem
         Inputs ``[input]``, plus ``"normal_load"`` [N] for a model that uses
-        a normal load (``model.takes_normal_load``: each sample's load, at
-        most the model's own ``normal_load``, within the surface's range);
+        a normal load (``model.uses_normal_load``: Pol-Ind, each sample's
+        load at most the model's own ``normal_load``, within the surface's
+        range; a model with a ``reference_load``, any positive load);
         output ``"F"``, the friction force [N]; states as
         :func:`state_names` (the model's state, then ``position``,
         ``velocity``, ``started``), ``X0`` from :func:`initial_state`.
@@ -216,7 +245,7 @@ def friction_system(model, dt, input="x", *, name=None):
         raise InputError(f"The 'input' of friction_system must be 'x' (position) or 'v' "
                          f"(velocity). Got {describe(input)} instead.")
     step = _SampleStep(model, float(dt), input)
-    inputs = [input] + (["normal_load"] if model.takes_normal_load else [])
+    inputs = [input] + (["normal_load"] if model.uses_normal_load else [])
     return _ct.NonlinearIOSystem(step.update, step.output, inputs=inputs, outputs=["F"],
                                  states=state_names(model), dt=float(dt), name=name)
 
@@ -250,9 +279,14 @@ class _SampleStep:
         functions = model.step_functions()
         self.step = functions.step
         self.force = functions.force
+        self.tangent = functions.tangent
         self.size = model.flat_state(self.template).shape[0]
         self.constant_load = float(model.constant_load)
-        self.takes_load = bool(model.takes_normal_load)
+        self.takes_load = bool(model.uses_normal_load)
+        # A mounted model steps through its kernel's mounted runner, with the
+        # mount's work slots carried in the system state.
+        self.mount = model.mount_array(self.template, True) if _mounted(model) else None
+        self.extra = 0 if self.mount is None else len(MOUNT_STATES)
         self.arrays = OrderedDict()
         self.last_key = None
         self.last = None
@@ -286,6 +320,31 @@ class _SampleStep:
         while len(self.arrays) > _REMEMBERED:
             self.arrays.popitem(last=False)
 
+    def _first_force(self, scalars, table, flat, mount, velocity, load):
+        if mount is None:
+            return self.force(scalars, table, flat, velocity, load)
+        from polind.kernels.mount import SPRING_FORCE, STIFFNESS, scaled_force
+        if mount[STIFFNESS] < math.inf:
+            return mount[SPRING_FORCE]
+        return scaled_force(mount, self.force(scalars, table, flat, velocity, load), velocity,
+                            load)
+
+    def _step(self, scalars, table, flat, mount, displacement, step_velocity, sample_velocity,
+              load):
+        if mount is None:
+            return self.step(scalars, table, flat, self.dt, displacement, step_velocity,
+                             sample_velocity, load)
+        from polind.kernels.series import run_mounted
+        # A one-step path; the load of its first sample is unknown (NaN), so the
+        # runner brings the model to this step's load first, as simulate does
+        # whenever the load changes.
+        path = np.array([[0.0, self.dt], [0.0, displacement], [0.0, step_velocity],
+                         [0.0, sample_velocity], [math.nan, load], [0.0, 0.0]])
+        run_mounted(self.step, self.force, self.tangent, mount, scalars, table, flat,
+                    np.empty(2 * flat.shape[0]), path[0], path[1], path[2], path[3], path[4],
+                    load, 0, 2, False, path[5])
+        return path[5, 1]
+
     def advance(self, xs, u):
         """``(next system state, force)`` for system state ``xs`` and input ``u``."""
         xs = np.ascontiguousarray(xs, dtype=np.float64)
@@ -294,9 +353,10 @@ class _SampleStep:
         if self.last_key is not None and self.last_key[0] == key \
                 and self.last_key[1] == u.tobytes():
             return self.last
-        if xs.shape[0] != self.size + len(CARRIED_STATES):
-            raise InputError(f"The state of this friction_system has "
-                             f"{self.size + len(CARRIED_STATES)} entries. Got {xs.shape[0]}.")
+        expected = self.size + self.extra + len(CARRIED_STATES)
+        if xs.shape[0] != expected:
+            raise InputError(f"The state of this friction_system has {expected} entries. "
+                             f"Got {xs.shape[0]}.")
         motion = float(u[0])
         if not math.isfinite(motion):
             raise InputError(f"The '{self.mode}' input of friction_system must be finite. "
@@ -304,12 +364,16 @@ class _SampleStep:
         scalars, table, check_load = self._arrays_for(xs, key)
         load = check_load(float(u[1])) if self.takes_load else self.constant_load
         flat = xs[:self.size].copy()
-        position, velocity, started = (float(value) for value in xs[self.size:])
+        mount = None
+        if self.mount is not None:
+            mount = self.mount.copy()
+            mount[_MOUNT_SLOTS] = xs[self.size:self.size + self.extra]
+        position, velocity, started = (float(value) for value in xs[self.size + self.extra:])
         if started == 0.0:
             # The first sample: no step before it, the force at the state.
             if not self.by_position:
                 velocity = motion
-            force = self.force(scalars, table, flat, velocity, load)
+            force = self._first_force(scalars, table, flat, mount, velocity, load)
             if self.by_position:
                 position = motion
         elif self.by_position:
@@ -318,8 +382,8 @@ class _SampleStep:
             if not math.isfinite(step_velocity):
                 raise InputError(f"The 'x' input of friction_system must give a finite step "
                                  f"velocity. Got x = {motion!r} after {position!r}.")
-            force = self.step(scalars, table, flat, self.dt, displacement, step_velocity,
-                              step_velocity, load)
+            force = self._step(scalars, table, flat, mount, displacement, step_velocity,
+                               step_velocity, load)
             position, velocity = motion, step_velocity
         else:
             step_velocity = 0.5 * (velocity + motion)
@@ -328,10 +392,11 @@ class _SampleStep:
             if not math.isfinite(position):
                 raise InputError(f"The 'v' input of friction_system must give a finite "
                                  f"position. Got v = {motion!r} at position {position!r}.")
-            force = self.step(scalars, table, flat, self.dt, displacement, step_velocity,
-                              motion, load)
+            force = self._step(scalars, table, flat, mount, displacement, step_velocity, motion,
+                               load)
             velocity = motion
-        following = np.concatenate((flat, (position, velocity, 1.0)))
+        carried = () if mount is None else mount[_MOUNT_SLOTS]
+        following = np.concatenate((flat, carried, (position, velocity, 1.0)))
         self._remember(following.tobytes(), _KernelArrays(scalars, table, check_load))
         self.last_key = (key, u.tobytes())
         self.last = (following, float(force))

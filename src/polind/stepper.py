@@ -153,6 +153,7 @@ class Stepper:
         self._step = kernel.step
         # A mounted contact (series spring, load scaling) runs one-sample paths instead.
         self._path = None if kernel.mount is None else np.zeros((6, 2))
+        self._path_load = kernel.normal_load
         self._scalars, self._table, self._flat = kernel.scalars, kernel.table, kernel.state
         self._load = kernel.normal_load
         self._check_load = _LoadCheck(model, start, "Stepper")
@@ -250,7 +251,8 @@ class Stepper:
         path = self._path
         path[0, 1], path[1, 1], path[2, 1], path[3, 1] = step, displacement, step_velocity, \
             sample_velocity
-        path[4, :] = load
+        path[4, 0], path[4, 1] = self._path_load, load   # the runner brings a model to a new load
+        self._path_load = load
         self._kernel.run(path[0], path[1], path[2], path[3], path[4], 0, 2, False, path[5])
         return float(path[5, 1])
 

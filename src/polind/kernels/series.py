@@ -141,11 +141,18 @@ def run_mounted(step_function, force_function, tangent_function, mount, scalars,
         else:
             force = force_function(scalars, table, state, sample_velocity[lo], load)
             out_force[lo] = scaled_force(mount, force, sample_velocity[lo], load)
+    previous_load = sample_load(loads, constant_load, lo)
     for k in range(lo + 1, hi):
+        load = sample_load(loads, constant_load, k)
+        if load != previous_load:
+            # Bring the model to the new load on its real state first (a model
+            # whose element table follows the load, Pol-Ind, clips and restarts
+            # its elements there): the spring's trials run on copies.
+            force_function(scalars, table, state, sample_velocity[k - 1], load)
+            previous_load = load
         out_force[k] = mounted_commit(step_function, tangent_function, mount, scalars, table,
                                       state, scratch, step_length[k], displacement[k],
-                                      step_velocity[k], sample_velocity[k],
-                                      sample_load(loads, constant_load, k))
+                                      step_velocity[k], sample_velocity[k], load)
 
 
 @jit(cache=False)
