@@ -48,8 +48,10 @@ class SimulationResult:
 def _converted(name, values, length=None):
     """A 1-D float64 copy of ``values`` of the given length; InputError naming ``name`` otherwise."""
     try:
+        if np.iscomplexobj(values):
+            raise TypeError("complex")
         array = np.array(values, dtype=np.float64, copy=True)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise InputError(f"The '{name}' samples must be numbers. Got {describe(values)} "
                          "instead.") from None
     if array.ndim != 1:

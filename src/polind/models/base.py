@@ -108,7 +108,7 @@ class State:
         return out
 
     def to_json(self) -> str:
-        return json.dumps(self.to_dict())
+        return json.dumps(self.to_dict(), allow_nan=False)
 
     @classmethod
     def from_dict(cls, data: dict) -> "State":
@@ -144,7 +144,14 @@ class State:
 
     @classmethod
     def from_json(cls, text: str) -> "State":
-        return cls.from_dict(json.loads(text))
+        """Rebuild a state from :meth:`to_json` text (InputError for anything else)."""
+        if not isinstance(text, (str, bytes, bytearray)):
+            raise InputError(f"State.from_json needs JSON text. Got {describe(text)} instead.")
+        try:
+            data = json.loads(text)
+        except ValueError as error:
+            raise InputError(f"A saved state must be JSON text: {error}.") from None
+        return cls.from_dict(data)
 
 
 def scales(static_force, coulomb_force, viscous_coefficient=0.0, curve=None,
@@ -398,7 +405,7 @@ class FrictionModel:
         return {"model": {"type": self.type, **copy.deepcopy(self._params)}}
 
     def to_json(self) -> str:
-        return json.dumps(self.to_dict())
+        return json.dumps(self.to_dict(), allow_nan=False)
 
     def with_params(self, **changes) -> "FrictionModel":
         """A new model with some parameters replaced (validated again)."""
@@ -578,6 +585,11 @@ class FrictionModel:
             self.check_state(state)
         functions = self.step_functions()
         scalars, table = self.kernel_arrays(state)
+        for name, values in (("scalars", scalars), ("table", table)):
+            if np.isnan(np.asarray(values, dtype=np.float64)).any():
+                raise InputError(f"The {self.type} model's parameters give NaN in its kernel "
+                                 f"{name} (a value too large or too small for double "
+                                 f"precision?); expected parameters of a physical size.")
         if varying_load is None:
             varying_load = normal_load is not None
         mount = self.mount_array(state, varying_load)

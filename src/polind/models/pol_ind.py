@@ -30,6 +30,7 @@ time-varying load):
 from __future__ import annotations
 
 import functools
+import math
 
 import numpy as np
 
@@ -176,7 +177,16 @@ class PolInd(FrictionModel):
         if load not in self._contacts:
             if len(self._contacts) >= 8:
                 self._contacts.pop(next(iter(self._contacts)))
-            self._contacts[load] = build_contact({**self._params, "normal_load": load})
+            contact = build_contact({**self._params, "normal_load": load})
+            table = contact.elements
+            for name, values in (("stiffness", table.stiffness), ("weight", table.weight)):
+                if not np.all(np.isfinite(values)):
+                    raise InputError(f"The pol-ind parameters give non-finite element {name}s at "
+                                     f"{load!r} N (a value too large for double precision, such "
+                                     f"as static_coefficient = "
+                                     f"{self._params['static_coefficient']!r}?); expected "
+                                     f"parameters of a physical size.")
+            self._contacts[load] = contact
         return self._contacts[load]
 
     def element_table(self, normal_load=None):
@@ -227,6 +237,23 @@ class PolInd(FrictionModel):
             if state.variables[key].shape[0] != n:
                 raise InputError(f"The state's '{key}' has {state.variables[key].shape[0]} "
                                  f"entries; its 'element_force' has {n}.")
+        table_load = state.variables["table_load"]
+        if table_load.shape != (1,) or not (math.isfinite(table_load[0]) and table_load[0] > 0.0):
+            raise InputError(f"The state's 'table_load' must be one positive finite load [N]. "
+                             f"Got {table_load.tolist()} instead.")
+        counts = state.variables["element_count"]
+        if np.any(counts < 0.0):
+            index = int(np.flatnonzero(counts < 0.0)[0])
+            raise InputError(f"The state's 'element_count' must be non-negative. Got "
+                             f"{float(counts[index])!r} at index {index} instead.")
+        directions = state.variables["slip_direction"]
+        if not np.all(np.isin(directions, (-1.0, 0.0, 1.0))):
+            raise InputError("The state's 'slip_direction' entries must be -1, 0 or 1.")
+        expected = self.element_table(float(table_load[0])).stiffness.shape[0]
+        if n != expected:
+            raise InputError(f"The state has {n} elements but this pol-ind model has {expected} "
+                             f"(at the state's table load {float(table_load[0])!r} N): a state "
+                             f"continues the model that produced it.")
 
     def step_functions(self):
         # Kernels load numba: imported on first use so `import polind` stays fast.

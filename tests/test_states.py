@@ -1,0 +1,99 @@
+"""States that cannot lie, and model parameters that cannot give NaN (issue: checked states)."""
+
+from __future__ import annotations
+
+import copy
+
+import numpy as np
+import pytest
+
+import polind
+from polind.models.pol_ind import default_table
+
+from conftest import REPRESENTATIVE, lib
+
+
+def _pol_ind(elements):
+    table = default_table()
+    table["discretisation"] = dict(table["discretisation"], elements=elements)
+    return polind.model_from_dict({"model": table})
+
+
+def _final_state(model, n=50):
+    t = np.linspace(0.0, 0.05, n)
+    return polind.simulate(model, t, x=1e-7 * np.sin(100 * t)).final_state
+
+
+@pytest.mark.parametrize("other", [200, 32])
+def test_a_pol_ind_state_of_another_element_count_is_refused_naming_both(other):
+    model = _pol_ind(64)
+    state = _final_state(_pol_ind(other))
+    t = np.array([state.time, state.time + 1e-3])
+    x = np.array([state.position, state.position])
+    with pytest.raises(polind.InputError, match=rf"state has {other} elements but this pol-ind "
+                                                 rf"model has 64"):
+        polind.simulate(model, t, x=x, state=state)
+    with pytest.raises(polind.InputError, match="64"):
+        polind.Stepper(model, state=state)
+    with pytest.raises(polind.InputError, match="64"):
+        polind.Body(model, state=state)
+
+
+@pytest.mark.parametrize("key, value, message", [
+    ("element_count", lambda a: np.where(np.arange(a.size) == 3, -1.0, a), "non-negative"),
+    ("table_load", lambda a: np.zeros(0), "table_load"),
+    ("table_load", lambda a: -a, "table_load"),
+    ("slip_direction", lambda a: a + 0.5, "-1, 0 or 1"),
+])
+def test_a_pol_ind_state_with_impossible_values_is_refused(key, value, message):
+    model = _pol_ind(16)
+    state = _final_state(model)
+    data = state.to_dict()
+    data[key] = value(np.asarray(data[key], dtype=float)).tolist()
+    bad = polind.State.from_dict(data)
+    with pytest.raises(polind.InputError, match=message):
+        polind.Stepper(model, state=bad)
+
+
+def test_a_classical_state_of_another_element_count_is_refused():
+    model = lib(REPRESENTATIVE["maxwell-slip"])
+    fewer = copy.deepcopy(REPRESENTATIVE["maxwell-slip"])
+    fewer["stiffness"], fewer["breakaway_force"] = fewer["stiffness"][:2], \
+        fewer["breakaway_force"][:2]
+    state = _final_state(lib(fewer))
+    with pytest.raises(polind.InputError, match="element_force"):
+        polind.Stepper(model, state=state)
+
+
+def test_complex_samples_are_refused_not_truncated():
+    model = lib(REPRESENTATIVE["lugre"])
+    t = np.linspace(0.0, 1.0, 5)
+    with pytest.raises(polind.InputError, match="'x' samples must be numbers"):
+        polind.simulate(model, t, x=np.ones(5) * (1 + 1j))
+    with pytest.raises(polind.InputError, match="'t' samples must be numbers"):
+        polind.simulate(model, t.astype(complex), x=t)
+
+
+def test_state_from_json_refuses_what_is_not_a_state():
+    with pytest.raises(polind.InputError, match="JSON"):
+        polind.State.from_json("{not json")
+    with pytest.raises(polind.InputError, match="JSON text"):
+        polind.State.from_json(3.0)
+
+
+def test_parameters_too_large_for_doubles_are_refused_before_they_give_nan():
+    table = default_table()
+    table["static_coefficient"] = 1e300
+    model = polind.model_from_dict({"model": table})
+    t = np.linspace(0.0, 0.01, 5)
+    with pytest.raises(polind.InputError, match="static_coefficient"):
+        polind.simulate(model, t, x=1e-7 * t)
+
+
+def test_json_output_is_strict():
+    model = lib(REPRESENTATIVE["lugre"])
+    assert "Infinity" not in model.to_json()
+    state = model.initial_state()
+    state.force = float("nan")
+    with pytest.raises(ValueError):
+        state.to_json()
