@@ -97,3 +97,26 @@ def test_json_output_is_strict():
     state.force = float("nan")
     with pytest.raises(ValueError):
         state.to_json()
+
+
+@pytest.mark.parametrize("table, message", [
+    ({"type": "lugre", **{k: v for k, v in REPRESENTATIVE["lugre"].items() if k != "type"},
+      "bristle_stiffness": 10 ** 400}, "bristle_stiffness"),
+    ({"type": ["lugre"]}, "type"),
+    ({"type": {"a": 1}}, "type"),
+])
+def test_values_python_cannot_convert_are_input_errors(table, message):
+    with pytest.raises(polind.InputError, match=message):
+        polind.model_from_dict({"model": table})
+
+
+def test_a_400_digit_integer_in_a_model_file_exits_2(tmp_path):
+    from polind.cli import _run
+
+    path = tmp_path / "m.toml"
+    path.write_text('[model]\ntype = "coulomb"\ncoulomb_force = ' + "9" * 400 + "\n")
+    motion = tmp_path / "motion.csv"
+    motion.write_text("t,x\n0,0\n1,1\n")
+    assert _run(["simulate", str(path), "--input", str(motion), "--output",
+                 str(tmp_path / "out.csv")]) == 2
+    assert not (tmp_path / "out.csv").exists()

@@ -53,9 +53,14 @@ def _number(ctx, key, value, integer=False, index=None):
     where = "" if index is None else f" at index {index}"
     if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
         ctx.fail(key, "an integer" if integer else "a number", value, where)
-    if integer and not float(value).is_integer():
+    try:
+        number = float(value)
+    except OverflowError:      # an integer beyond double precision (e.g. 400 digits)
+        ctx.fail(key, "a finite number of double precision (below 1.8e308)",
+                 f"an integer of about {int(int(value).bit_length() * 0.30103) + 1} digits",
+                 where)
+    if integer and not number.is_integer():
         ctx.fail(key, "an integer", value, where)
-    number = float(value)
     if not math.isfinite(number):
         ctx.fail(key, "finite", value, where)
     return number

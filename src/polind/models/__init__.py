@@ -44,7 +44,7 @@ def model_from_dict(document: dict) -> FrictionModel:
         raise _InputError("Missing key 'type' in the [model] table; expected one of: "
                           + ", ".join(sorted(MODEL_TYPES)) + ".")
     model_type = table["type"]
-    if model_type not in MODEL_TYPES:
+    if not isinstance(model_type, str) or model_type not in MODEL_TYPES:
         raise _InputError(f"Unknown model type {_describe(model_type)} for key 'type'; expected "
                           "one of: " + ", ".join(sorted(MODEL_TYPES)) + ".")
     params = {key: value for key, value in table.items() if key != "type"}
