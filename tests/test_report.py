@@ -190,3 +190,17 @@ def test_importing_polind_does_not_import_matplotlib():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True)
     assert out.stdout.strip() == "False"
+
+
+def test_a_report_is_written_whole_or_not_at_all(demo_run, tmp_path):
+    from polind import InputError
+    from polind.demo import run_demo
+    from polind.report import write_report
+
+    _, summary, _ = demo_run
+    (tmp_path / "report.html").mkdir()
+    with pytest.raises(InputError, match="report.html"):
+        write_report(summary["results"], tmp_path)
+    assert sorted(os.listdir(tmp_path)) == ["report.html"]       # no PNG left behind
+    with pytest.raises(InputError, match="report.html"):
+        run_demo(tmp_path)

@@ -27,6 +27,7 @@ models and writes the report of :mod:`polind.report`:
 from __future__ import annotations
 
 import math
+import os
 import time
 
 from polind import phenomena
@@ -174,6 +175,8 @@ def run_demo(out_dir="polind-report", progress=None, *, model=None) -> DemoSumma
     from polind import report
 
     started = time.perf_counter()
+    if os.path.isdir(out_dir):
+        report.check_targets(out_dir)      # before the experiments, not after them
     models = demo_models(model)
     total = len(models) * len(PHENOMENA) + 1
     advance = _progress_hooks(progress, total)

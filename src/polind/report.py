@@ -32,7 +32,7 @@ import os
 
 import numpy as np
 
-from polind.io import atomic_write_bytes, atomic_write_text
+from polind.io import atomic_write_bytes, atomic_write_text, check_output_path
 from polind.phenomena import PHENOMENA
 
 __all__ = ["TITLES", "DESCRIPTIONS", "FIGURES", "write_report", "metrics_document",
@@ -598,6 +598,18 @@ def _parameter_text(parameters) -> str:
 
 # --- writing it all -------------------------------------------------------------------------
 
+def file_names() -> list:
+    """The names of the files a report writes: every figure, ``metrics.json``, ``report.html``."""
+    return [name for names in FIGURES.values() for name in names] + ["metrics.json",
+                                                                     "report.html"]
+
+
+def check_targets(out_dir) -> None:
+    """InputError if any file of a report cannot be written into ``out_dir`` (a directory in the way...)."""
+    for name in file_names():
+        check_output_path(os.path.join(out_dir, name))
+
+
 def write_report(results, out_dir, *, models=None, subject=None, title="polind demo") -> dict:
     """Write the PNGs, ``metrics.json`` and ``report.html`` into ``out_dir`` (created if needed).
 
@@ -624,12 +636,15 @@ def write_report(results, out_dir, *, models=None, subject=None, title="polind d
     subject = subject or next(iter(results["stribeck"]))
     os.makedirs(out_dir, exist_ok=True)
     images = render_figures(results, subject)
+    metrics = metrics_document(results, subject)
+    page = render_html(results, images, models or {}, subject, title=title)
+    # Everything is rendered; check every target before the first write, so that
+    # a report is written whole or not at all.
+    check_targets(out_dir)
     for name, data in images.items():
         atomic_write_bytes(os.path.join(out_dir, name), data)
-    metrics = metrics_document(results, subject)
     atomic_write_text(os.path.join(out_dir, "metrics.json"),
                       json.dumps(metrics, indent=2, allow_nan=False) + "\n")
-    page = render_html(results, images, models or {}, subject, title=title)
     atomic_write_text(os.path.join(out_dir, "report.html"), page)
     return {"out_dir": os.fspath(out_dir),
             "files": sorted(images) + ["metrics.json", "report.html"], "metrics": metrics}
