@@ -307,3 +307,29 @@ def test_breakaway_check_fails_with_a_threshold_inside_presliding(pol_ind):
     result = phenomena.breakaway(pol_ind, threshold_velocity=1e-12)
     assert not result.passed
     assert result.metrics["breakaway_ratio"][0] < 0.5
+
+
+def test_frictional_lag_of_a_lightly_loaded_pol_ind_contact_stays_small():
+    # Its lag time is tiny against its presliding range: a uniform grid over the
+    # warm-up slide would take 8e10 samples (595 GiB).
+    import polind
+    import polind.phenomena as phenomena
+    from polind.models.pol_ind import default_table
+
+    table = default_table()
+    table["normal_load"] = 1e-6
+    model = polind.model_from_dict({"model": table})
+    sizes = []
+    original = phenomena.simulate
+
+    def counting(model, t, *args, **kwargs):
+        sizes.append(len(t))
+        return original(model, t, *args, **kwargs)
+
+    phenomena.simulate = counting
+    try:
+        result = phenomena.frictional_lag(model)
+    finally:
+        phenomena.simulate = original
+    assert max(sizes) < 2_000_000
+    assert result.passed
