@@ -123,7 +123,7 @@ class State:
         for key in cls._SCALARS:
             value = data.get(key, 0.0)
             if isinstance(value, bool) or not isinstance(value, (int, float)) \
-                    or not math.isfinite(value):
+                    or not _finite_float(value):
                 raise InputError(f"The '{key}' entry of a saved state must be a finite number. "
                                  f"Got {describe(value)} instead.")
             scalars[key] = float(value)
@@ -133,7 +133,7 @@ class State:
                 continue
             try:
                 array = np.array(value, dtype=np.float64).reshape(-1)
-            except (TypeError, ValueError):
+            except (TypeError, ValueError, OverflowError):
                 raise InputError(f"The '{key}' entry of a saved state must be a list of numbers. "
                                  f"Got {describe(value)} instead.") from None
             if not np.all(np.isfinite(array)):
@@ -152,6 +152,14 @@ class State:
         except ValueError as error:
             raise InputError(f"A saved state must be JSON text: {error}.") from None
         return cls.from_dict(data)
+
+
+def _finite_float(value) -> bool:
+    """Whether a Python number is a finite double (a 400-digit integer is not)."""
+    try:
+        return math.isfinite(float(value))
+    except OverflowError:
+        return False
 
 
 def scales(static_force, coulomb_force, viscous_coefficient=0.0, curve=None,
