@@ -495,3 +495,18 @@ def test_stick_slip_converges_until_the_position_quantum():
     orders = observed_orders(errors)
     assert np.all(orders > 1.5), orders
     assert errors[-1] < 3e-7
+
+
+def test_a_system_beyond_the_memory_limit_is_refused_before_allocating():
+    from polind import resources
+
+    with pytest.raises(InputError, match=r"1e\+12 samples\) needs about 40 TB"):
+        System(mass=1.0, duration=1e6, time_step=1e-6)
+    resources.set_memory_limit(1e6)
+    try:
+        with pytest.raises(InputError, match=r"needs about 4 MB of memory; the limit is 1 MB "
+                                             r"\(set by --max-memory\)"):
+            System(mass=1.0, duration=1.0, time_step=1e-5)
+        System(mass=1.0, duration=1.0, time_step=1e-3)       # 40 kB: fine
+    finally:
+        resources.set_memory_limit(None)

@@ -32,13 +32,13 @@ LAYERS = (
     ("cli",),
     ("demo", "report", "bench"),
     ("phenomena",),
-    ("identification",),
+    ("identification", "comparison"),
     ("control", "stepper", "dynamics", "simulate"),
     ("models",),
     ("io",),
     ("contact", "topography"),
     ("kernels",),
-    ("validation", "errors"),
+    ("validation", "errors", "resources"),
 )
 LAYER_OF = {name: index for index, names in enumerate(LAYERS) for name in names}
 

@@ -24,7 +24,7 @@ __all__ = ["InputError", "MODEL_TYPES", "FrictionModel", "State", "SimulationRes
            "StepFunctions", "StepKernel", "register_model", "Param", "Table", "Stepper", "Body",
            "load_model", "model_from_dict", "simulate", "System", "SystemResult",
            "load_system", "simulate_system", "identify", "FitResult",
-           "identify_maxwell_slip", "identify_gms", "identify_stribeck"]
+           "identify_maxwell_slip", "identify_gms", "identify_stribeck", "compare"]
 __version__ = "0.1.0"
 
 # The one-degree-of-freedom and identification APIs load numba kernels and
@@ -34,6 +34,7 @@ _LAZY = {"identify": "polind.identification", "FitResult": "polind.identificatio
          "identify_maxwell_slip": "polind.identification",
          "identify_gms": "polind.identification",
          "identify_stribeck": "polind.identification",
+         "compare": "polind.comparison",
          "Stepper": "polind.stepper", "Body": "polind.stepper",
          "System": "polind.dynamics", "SystemResult": "polind.dynamics",
          "load_system": "polind.dynamics", "simulate_system": "polind.dynamics"}

@@ -27,6 +27,7 @@ import contextlib
 import os
 import sys
 import traceback
+import warnings
 from pathlib import Path
 
 import click
@@ -143,6 +144,7 @@ def simulate(model_path, motion_path, output_path):
     import polind
     from polind import io
 
+    refuse_overwriting_inputs([model_path, motion_path], {"--output": output_path})
     check_output_path(output_path)
     model = load_model(model_path)
     motion = io.read_motion_csv(motion_path)
@@ -153,7 +155,7 @@ def simulate(model_path, motion_path, output_path):
                                  progress=lambda done, total: bar.update(done - bar.n))
     io.write_csv_atomic(output_path, {"t": result.t, "x": result.x, "v": result.v,
                                       "F": result.force})
-    click.echo(f"wrote {output_path}: {len(result.t)} samples")
+    click.echo(f"wrote {output_path}: {len(result.t)} samples", err=os.fspath(output_path) == "-")
 
 
 @cli.command()
@@ -176,7 +178,7 @@ def surface(model_path, as_json):
     with blame(model_path):
         summary = model.contact().summary()
     if as_json:
-        click.echo(json.dumps(summary))
+        click.echo(json.dumps(summary, allow_nan=False))
         return
     params = model.params
     sigma = params["surface"]["height_std"]
@@ -260,6 +262,7 @@ def dynamics(model_path, system_path, output_path):
     import polind
     from polind import io
 
+    refuse_overwriting_inputs([model_path, system_path], {"--output": output_path})
     check_output_path(output_path)
     model = load_model(model_path)
     with blame(system_path):
@@ -272,7 +275,7 @@ def dynamics(model_path, system_path, output_path):
         result = polind.simulate_system(model, system, progress=advance)
     io.write_csv_atomic(output_path, {"t": result.t, "x": result.x, "v": result.v,
                                       "F": result.force, "F_applied": result.applied})
-    click.echo(f"wrote {output_path}: {len(result.t)} samples")
+    click.echo(f"wrote {output_path}: {len(result.t)} samples", err=os.fspath(output_path) == "-")
 
 
 @cli.command()
@@ -315,6 +318,38 @@ def demo(out_dir, model_path):
                f"in {time.perf_counter() - started:.1f} s")
 
 
+def refuse_overwriting_inputs(inputs, outputs) -> None:
+    """Check every output before a long run; refuse (exit 2) one that is an input.
+
+    ``inputs`` are the paths the command reads; ``outputs`` maps an option
+    name to a path or None (not given).  Each output must pass
+    :func:`polind.io.check_output_path` with those inputs (an output never
+    replaces an input, also through a link; ``-`` is standard output), and
+    no two outputs may be one file.
+    """
+    from polind import io
+
+    given = [(option, path) for option, path in outputs.items() if path is not None]
+    for index, (option, path) in enumerate(given):
+        io.check_output_path(path, inputs)
+        for other_option, other in given[:index]:
+            try:
+                same = os.fspath(path) == os.fspath(other) == io.STDOUT
+                io.check_output_path(path, [other])
+            except InputError:
+                same = True
+            if same:
+                raise InputError(f"{path}: given as both {other_option} and {option}; expected "
+                                 "two different outputs.")
+
+
+def _holdout_option(command):
+    return click.option("--holdout", "holdout", default=None, metavar="F",
+                        type=click.FloatRange(0.0, 1.0, min_open=True, max_open=True),
+                        help="Fit the first 1-F of the samples (by time) and report the RMS "
+                             "error on the rest.")(command)
+
+
 @cli.command()
 @model_argument
 @click.option("--data", "-d", "data_path", required=True, type=_file_path(), metavar="DATA.csv",
@@ -322,19 +357,21 @@ def demo(out_dir, model_path):
 @output_option
 @click.option("--plot", "plot_path", default=None, type=_file_path(), metavar="FILE",
               help="Also write a PNG of measured against fitted force.")
-def fit(model_path, data_path, output_path, plot_path):
+@_holdout_option
+def fit(model_path, data_path, output_path, plot_path, holdout):
     """Identify the [fit] free parameters of MODEL from measured data.
 
     The model's values are the starting point; [fit] free names the keys to
-    identify and [fit.bounds] bounds them.  Writes FITTED.toml: [model] with
-    the identified values and [fit.result] (rms_error, iterations, value and
-    standard error of every free key).
+    identify and [fit.bounds] bounds them (without bounds a key gets default
+    bounds derived from the data).  Writes FITTED.toml: [model] with the
+    identified values and [fit.result] (rms_error, holdout_rms_error with
+    --holdout, iterations, warnings, value and standard error of every free
+    key).  Each warning is also one line on standard error.
     """
     from polind import identification, io
 
-    check_output_path(output_path)
-    if plot_path is not None:
-        check_output_path(plot_path)
+    refuse_overwriting_inputs([model_path, data_path],
+                              {"--output": output_path, "--plot": plot_path})
     with blame(model_path):
         document = io.read_model_file(model_path)
         model, free, bounds = identification.parse_fit(document)
@@ -345,13 +382,72 @@ def fit(model_path, data_path, output_path, plot_path):
             bar.update()
 
         with blame(data_path):
+            # The fit's warnings reach standard error as UserWarnings, one line each (main).
             result = identification.identify(model, data, free=free, bounds=bounds,
-                                             callback=advance)
+                                             holdout=holdout, callback=advance)
     if plot_path is not None:
         identification.plot_fit(data, result, plot_path)
     io.write_model_file(output_path, result.to_document())
-    click.echo(result.summary())
-    click.echo(f"wrote {output_path}" + (f" and {plot_path}" if plot_path else ""))
+    # With an output on standard output ('-'), the readable text goes to standard error.
+    streamed = io.STDOUT in (os.fspath(output_path), os.fspath(plot_path or ""))
+    click.echo(result.summary(), err=streamed)
+    files = [os.fspath(path) for path in (output_path, plot_path)
+             if path is not None and os.fspath(path) != io.STDOUT]
+    if files:
+        click.echo(f"wrote {' and '.join(files)}", err=streamed)
+
+
+@cli.command()
+@click.argument("model_paths", metavar="MODEL...", nargs=-1, required=True, type=_file_path())
+@click.option("--data", "-d", "data_path", required=True, type=_file_path(), metavar="DATA.csv",
+              help="Measured t, one of x [m] / v [m/s], F [N], optionally normal_load [N].")
+@_holdout_option
+@click.option("--output", "-o", "output_path", default=None, type=_file_path(),
+              metavar="TABLE.csv", help="Also write the table as CSV ('-': standard output).")
+@click.option("--plot", "plot_path", default=None, type=_file_path(), metavar="PNG",
+              help="Also write a PNG of measured and predicted force of every model.")
+def compare(model_paths, data_path, holdout, output_path, plot_path):
+    """Fit each MODEL to the same data and compare them: one row per model.
+
+    Each model file's values are its starting point and its [fit] table its
+    free keys and bounds (default: the model's usual keys, bounds from the
+    data).  The table: model (the file's name), free parameters (count),
+    RMS error in sample and on the held-out part (--holdout F: the last F of
+    the samples, predicted by continuing each fitted run), AIC and BIC of
+    the fitted part (n ln(RSS/n) + 2k and + k ln n).  --plot draws measured
+    and predicted force against time and position, the held-out part shaded.
+    """
+    from polind import comparison, identification, io
+
+    refuse_overwriting_inputs([*model_paths, data_path],
+                              {"--output": output_path, "--plot": plot_path})
+    stems = [Path(path).stem for path in model_paths]
+    documents = {}
+    for path, stem in zip(model_paths, stems):
+        label = stem if stems.count(stem) == 1 else os.fspath(path)
+        if label in documents:
+            raise InputError(f"{path}: the model file is given twice; expected each MODEL once.")
+        with blame(path):
+            documents[label] = io.read_model_file(path)
+            identification.parse_fit(documents[label])
+    data = io.read_motion_csv(data_path, **io.MEASUREMENT_COLUMNS)
+    with progress(total=len(documents), description="compare", unit=" models") as bar:
+        def advance(done, total, label):
+            bar.update(done - bar.n)
+
+        with blame(data_path):
+            table = comparison.compare(documents, data, holdout=holdout, progress=advance)
+    # With an output on standard output ('-'), the readable text goes to standard error.
+    written = [os.fspath(path) for path in (output_path, plot_path) if path is not None]
+    streamed = io.STDOUT in written
+    click.echo(table.table(), err=streamed)
+    if output_path is not None:
+        io.atomic_write_text(output_path, table.to_csv())
+    if plot_path is not None:
+        table.plot(plot_path, title=f"{data_path}: measured and predicted friction force")
+    files = [path for path in written if path != io.STDOUT]
+    if files:
+        click.echo(f"wrote {' and '.join(files)}", err=streamed)
 
 
 # --- the entry point ------------------------------------------------------------------------
@@ -371,10 +467,18 @@ def _report(kind: str, message: str) -> None:
     sys.stderr.flush()
 
 
+def _show_warning(message, category, filename, lineno, file=None, line=None):
+    _report("warning", str(message))
+
+
 def _run(argv) -> int:
     """Run the command line; return the exit status."""
     try:
-        status = cli.main(args=argv, prog_name=_PROGRAM, standalone_mode=False)
+        with warnings.catch_warnings():
+            # A library warning (a load signal a model ignores, ...) is one line on stderr.
+            warnings.simplefilter("default")
+            warnings.showwarning = _show_warning
+            status = cli.main(args=argv, prog_name=_PROGRAM, standalone_mode=False)
     except click.exceptions.NoArgsIsHelpError as exc:
         # A bare `polind` asks what it can do: the help, and success.
         click.echo(exc.format_message())

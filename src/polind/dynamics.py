@@ -36,8 +36,8 @@ _POSITIVE = ("mass", "duration", "time_step")
 _NONNEGATIVE = ("spring_stiffness", "frequency")
 
 
-#: Most output samples a system run may ask for (5 float64 arrays: 4 GB).
-MAX_SAMPLES = 1e8
+#: What a system run keeps per sample: t, x, v, F and F_applied (float64) [bytes].
+BYTES_PER_SAMPLE = 40
 
 
 @dataclass(frozen=True)
@@ -103,10 +103,9 @@ class System:
             raise InputError(f"The 'time_step' parameter of the system must not exceed its "
                              f"duration ({self.duration!r}). Got {self.time_step!r} instead.")
         samples = self.duration / self.time_step
-        if samples > MAX_SAMPLES:
-            raise InputError(f"The 'duration' / 'time_step' of the system asks for {samples:.3g} "
-                             f"samples; expected at most {MAX_SAMPLES:.0e} (five arrays of them "
-                             f"are kept in memory).")
+        from polind.resources import check_memory
+        check_memory(samples * BYTES_PER_SAMPLE,
+                     f"The system's duration / time_step ({samples:.3g} samples)")
 
     @property
     def times(self) -> np.ndarray:

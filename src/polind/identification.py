@@ -54,11 +54,27 @@ solution, carried to the physical parameters by the derivative of the
 mapping (the delta method).  A direction the data cannot determine (``J``
 rank-deficient) gives an infinite standard error to every parameter it
 involves.
+
+Safe fits (INTERFACE.md ``[fit]``)
+----------------------------------
+A free key without ``[fit.bounds]`` gets default bounds derived from the
+fitted data by its unit (:func:`default_bounds`, the table there and in the
+README), never an unbounded range.  Every fit lists its ``warnings``: a
+parameter that ended at a bound, one the data do not determine (standard
+error larger than its value, or not finite), a data column or signal the
+model does not use, a start outside the default bounds, a solver that
+stopped early.  ``holdout=F`` fits the first ``1 - F`` of the record and
+scores the prediction of the rest.  The columns of the finite-difference
+Jacobian run on threads (the numba kernels release the GIL).
 """
 
 from __future__ import annotations
 
 import math
+import os
+import threading
+import time
+import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
@@ -69,8 +85,8 @@ from polind.models import FrictionModel, model_from_dict
 from polind.models.params import Param, Table
 from polind.simulate import as_samples, make_path, simulate
 
-__all__ = ["FitResult", "identify", "parse_fit", "identify_maxwell_slip", "identify_gms",
-           "identify_stribeck", "plot_fit"]
+__all__ = ["FitResult", "identify", "parse_fit", "default_bounds", "identify_maxwell_slip",
+           "identify_gms", "identify_stribeck", "plot_fit"]
 
 _FIT_KEYS = ("free", "bounds", "result")
 _DATA_KEYS = ("t", "x", "v", "F", "normal_load")
@@ -87,6 +103,12 @@ _LOG_LIMIT = 600.0
 
 
 # --- the measured data ----------------------------------------------------------------------
+
+def _uses_load(model: FrictionModel) -> bool:
+    """Whether a normal-load signal changes the model's force (Pol-Ind, or a reference_load)."""
+    uses = getattr(model, "uses_normal_load", None)
+    return bool(model.takes_normal_load if uses is None else uses)
+
 
 @dataclass(frozen=True)
 class _Data:
@@ -109,19 +131,48 @@ class _Data:
         return {"x": self.x} if self.x is not None else {"v": self.v}
 
     def simulate(self, model) -> np.ndarray:
-        """The model's force along the data (the measured load only for a model that takes it)."""
-        load = self.normal_load if model.takes_normal_load else None
+        """The model's force along the data (the measured load only for a model that uses it)."""
+        load = self.normal_load if _uses_load(model) else None
         return simulate(model, self.t, normal_load=load, **self.motion()).force
 
     def path(self):
         return make_path(self.t, **self.motion())
 
+    def head(self, n: int) -> "_Data":
+        """The first ``n`` samples (the fitted part of a hold-out split), checked again."""
+        part = {key: None if value is None else value[:n] for key, value in
+                (("t", self.t), ("force", self.force), ("x", self.x), ("v", self.v),
+                 ("normal_load", self.normal_load))}
+        return _checked(**part, where=f" of the fitted part (the first {n} samples)")
 
-def _measurement(data, *, normal_load_ok: bool = True) -> _Data:
-    """Check a data mapping (``t``, one of ``x``/``v``, ``F``, optional ``normal_load``)."""
+
+def _columns(data) -> tuple[Mapping, list[str]]:
+    """The data as a mapping, and the columns of a data frame that identification does not use.
+
+    A pandas ``DataFrame`` (anything with ``columns`` that is not a mapping:
+    pandas itself is not imported) may carry other columns; they are left out
+    and reported.  A plain mapping must hold the data columns only.
+    """
+    if isinstance(data, Mapping) or not hasattr(data, "columns"):
+        return data, []
+    names = list(data.columns)
+    used = {str(name): data[name] for name in names if str(name) in _DATA_KEYS}
+    return used, [str(name) for name in names if str(name) not in _DATA_KEYS]
+
+
+def _measurement(data, *, normal_load_ok: bool = True, model: FrictionModel | None = None,
+                 notes: list | None = None) -> _Data:
+    """Check the data (``t``, one of ``x``/``v``, ``F``, optional ``normal_load``).
+
+    ``normal_load_ok=False`` refuses a load column (the NNLS structure fits);
+    for a ``model`` that ignores a load it is dropped with a note in ``notes``.
+    Columns of a data frame that are not data columns are dropped, also with
+    a note.
+    """
+    data, unused = _columns(data)
     if not isinstance(data, Mapping):
-        raise InputError(f"The 'data' must be a mapping of columns (t, x or v, F, optionally "
-                         f"normal_load). Got {describe(data)} instead.")
+        raise InputError(f"The 'data' must be a mapping of columns or a data frame (t, x or v, "
+                         f"F, optionally normal_load). Got {describe(data)} instead.")
     for key in data:
         if key not in _DATA_KEYS:
             raise InputError(f"Unknown data column '{key}'; expected t, one of x and v, F, and "
@@ -141,21 +192,41 @@ def _measurement(data, *, normal_load_ok: bool = True) -> _Data:
     load = None
     if data.get("normal_load") is not None:
         if not normal_load_ok:
-            raise InputError("A 'normal_load' column applies to the pol-ind model only.")
+            raise InputError("A 'normal_load' column does not apply here: the Maxwell-slip "
+                             "element fit uses t, x or v and F only.")
         load = as_samples("normal_load", data["normal_load"], n, positive=True)
+        if model is not None and not _uses_load(model):
+            load = None
+            if notes is not None:
+                hint = (" (give it a 'reference_load' to scale its friction with the load)"
+                        if _declaration(model, "reference_load") is not None else "")
+                notes.append(f"The 'normal_load' column is not used: the {model.type} model "
+                             f"ignores a normal load{hint}.")
+    if unused and notes is not None:
+        notes.append(f"The data column{'s' if len(unused) > 1 else ''} "
+                     f"{', '.join(repr(name) for name in unused)} "
+                     f"{'are' if len(unused) > 1 else 'is'} not used: identification reads t, "
+                     "x or v, F and normal_load.")
+    return _checked(t, force, x, v, load)
+
+
+def _checked(t, force, x, v, normal_load, where: str = "") -> _Data:
+    """A _Data after the checks that make a record worth fitting (named for ``where``)."""
+    n = t.shape[0]
     if n < 3:
-        raise InputError(f"Identification needs at least 3 samples. Got {n} samples of 't'.")
+        raise InputError(f"Identification needs at least 3 samples{where}. Got {n} samples "
+                         "of 't'.")
     make_path(t, x=x, v=v)          # t strictly increasing, named in the error
     if x is not None and np.ptp(x) == 0.0:
-        raise InputError(f"The 'x' samples never change (all {float(x[0])!r}): the data hold no "
-                         "motion, so no friction parameter can be identified.")
+        raise InputError(f"The 'x' samples{where} never change (all {float(x[0])!r}): the data "
+                         "hold no motion, so no friction parameter can be identified.")
     if v is not None and not np.any(v):
-        raise InputError("The 'v' samples are all 0: the data hold no motion, so no friction "
-                         "parameter can be identified.")
+        raise InputError(f"The 'v' samples{where} are all 0: the data hold no motion, so no "
+                         "friction parameter can be identified.")
     if np.ptp(force) == 0.0:
-        raise InputError(f"The 'F' samples are all equal ({float(force[0])!r}): a constant force "
-                         "carries no information to identify parameters from.")
-    return _Data(t=t, force=force, x=x, v=v, normal_load=load)
+        raise InputError(f"The 'F' samples{where} are all equal ({float(force[0])!r}): a "
+                         "constant force carries no information to identify parameters from.")
+    return _Data(t=t, force=force, x=x, v=v, normal_load=normal_load)
 
 
 def _typical_scale(unit: str, data: _Data) -> float:
@@ -167,6 +238,81 @@ def _typical_scale(unit: str, data: _Data) -> float:
     duration = float(data.t[-1] - data.t[0])
     return {"N": force, "N s/m": force / speed, "N/m": force / span, "m/s": speed, "m": span,
             "N/s": force / duration, "s": duration}.get(unit, 1.0) or 1.0
+
+
+# --- default bounds from the data -------------------------------------------------------------
+
+@dataclass(frozen=True)
+class _Scales:
+    """The sizes of a record that the default bounds are derived from."""
+
+    force: float       # A: the force amplitude, max |F| [N]
+    speed: float       # V: the largest sample speed [m/s]
+    span: float        # L: the displacement range, max x - min x [m]
+    step: float        # h: the median time step [s]
+
+    @classmethod
+    def of(cls, data: _Data) -> "_Scales":
+        path = data.path()
+        return cls(force=data.scale, speed=float(np.max(np.abs(path.sample_velocity))),
+                   span=float(np.ptp(path.x)), step=float(np.median(np.diff(data.t))))
+
+
+@dataclass(frozen=True)
+class _Rule:
+    """Default bounds ``[low, high] x scale`` of a parameter unit; ``scale`` from the data."""
+
+    scale: object            # _Scales -> float
+    low: float
+    high: float
+    words: str               # what the scale is, for the warnings
+
+    def describe(self, factor: float, scale: float, unit: str) -> str:
+        return f"{factor:g} x {scale:.4g} {unit}, {self.words}"
+
+
+#: The default bounds of a free parameter without [fit.bounds], by the unit of its
+#: declaration (INTERFACE.md: never an unbounded range).  The README repeats this table.
+DEFAULT_RANGES = {
+    "N": _Rule(lambda s: s.force, 1e-3, 10.0, "the force amplitude A = max |F|"),
+    "m/s": _Rule(lambda s: s.speed, 1e-3, 10.0, "the largest speed V of the record"),
+    "N s/m": _Rule(lambda s: s.force / s.speed, 1e-3, 10.0, "A / V (force amplitude / speed)"),
+    "N/m": _Rule(lambda s: s.force / s.span, 1e-2, 1e6,
+                 "A / L (force amplitude / displacement range)"),
+    "m": _Rule(lambda s: s.span, 1e-6, 10.0, "the displacement range L"),
+    "N/s": _Rule(lambda s: s.force / s.step, 1e-6, 1e3, "A / h (force amplitude / time step)"),
+    "s": _Rule(lambda s: s.step, 0.1, 1e6, "the median time step h"),
+}
+#: Any other unit (dimensionless, or one the record gives no scale of: 1/m^2, m^2, Pa):
+#: a decade either side of the start.
+UNSCALED_RANGE = (0.1, 10.0)
+
+
+def _default_range(declaration: Param, start: np.ndarray, scales: _Scales):
+    """``(low, high, low_origin, high_origin)``: the default bounds of a free parameter."""
+    kind_low, kind_high = _KIND_BOUNDS[declaration.bound]
+    if math.isfinite(kind_low) and math.isfinite(kind_high):
+        origin = f"the end of the range of a {declaration.bound} parameter"
+        return kind_low, kind_high, origin, origin
+    rule = DEFAULT_RANGES.get(declaration.unit)
+    if rule is not None:
+        scale = rule.scale(scales)
+        low, high = rule.low * scale, rule.high * scale
+        low_origin, high_origin = (
+            f"the default from the data: {rule.describe(factor, scale, declaration.unit)}"
+            for factor in (rule.low, rule.high))
+    else:
+        size = np.abs(start)
+        smallest = float(size[size > 0].min()) if np.any(size > 0) else 1.0
+        largest = float(size.max()) if np.any(size > 0) else 1.0
+        low, high = UNSCALED_RANGE[0] * smallest, UNSCALED_RANGE[1] * largest
+        low_origin = f"the default, {UNSCALED_RANGE[0]:g} x the start"
+        high_origin = f"the default, {UNSCALED_RANGE[1]:g} x the start"
+    if declaration.bound == "nonnegative":
+        low, low_origin = 0.0, "0: the parameter cannot be negative"
+    elif declaration.bound == "any":
+        low, low_origin = -high, high_origin.replace("default", "default (negated)", 1)
+    return low, high, low_origin, high_origin
 
 
 # --- free keys, bounds and their mapping to the optimiser's variables -------------------------
@@ -234,6 +380,8 @@ class _Free:
     low: float
     high: float
     scale: float = 1.0
+    low_origin: str = ""               # where each bound comes from, for the warnings
+    high_origin: str = ""
 
     @property
     def size(self) -> int:
@@ -286,6 +434,7 @@ def _free_keys(model: FrictionModel, free) -> list[str]:
         raise InputError(f"The 'free' list of [fit] must be a non-empty list of parameter keys. "
                          f"Got {describe(free)} instead.")
     keys = []
+    params = model.params
     for key in free:
         if not isinstance(key, str):
             raise InputError(f"The 'free' list of [fit] must hold parameter keys (strings). "
@@ -305,6 +454,14 @@ def _free_keys(model: FrictionModel, free) -> list[str]:
             raise InputError(f"The free key '{key}' of {model.type} is "
                              f"{what.get(declaration.kind, declaration.kind)}, not a continuous "
                              "parameter; only numbers and lists of numbers can be identified.")
+        try:
+            _get(params, key)
+        except (KeyError, TypeError):
+            # An optional table the model does not have ([model.compliance]).
+            *parents, last = key.split(".")
+            table = f"[model.{'.'.join(parents)}]" if parents else "[model]"
+            raise InputError(f"The free key '{key}' of {model.type} has no starting value; "
+                             f"give '{last}' a value in {table} of the model.") from None
         keys.append(key)
     model.check_free_keys(keys)
     return keys
@@ -360,27 +517,110 @@ def _bounds(model: FrictionModel, keys: list[str], bounds) -> dict[str, tuple[fl
     return pairs
 
 
-def _build_free(model: FrictionModel, keys, bounds, data: _Data) -> list[_Free]:
+def _build_free(model: FrictionModel, keys, bounds, data: _Data,
+                notes: list | None = None) -> list[_Free]:
+    """The free keys with their mappings and bounds: given ones, else the defaults.
+
+    A start outside its default bounds widens them to include it (with a note).
+    """
     params = model.params
+    scales = _Scales.of(data)
     frees = []
     for key in keys:
         declaration: Param = _declaration(model, key)
         value = _get(params, key)
         is_list = isinstance(value, list)
         start = np.atleast_1d(np.asarray(value, dtype=np.float64))
-        low, high = _KIND_BOUNDS[declaration.bound]
-        if key in bounds:
-            low, high = max(low, bounds[key][0]), min(high, bounds[key][1])
+        kind_low, kind_high = _KIND_BOUNDS[declaration.bound]
         if key in model.simplex_keys:
+            # Positive and summing to 1 by construction: (0, 1), never reached.
             mapping = "simplex"
-        elif declaration.bound == "positive":
-            mapping = "log"
+            low, high, low_origin, high_origin = 0.0, 1.0, "", ""
         else:
-            mapping = "linear"
+            mapping = "log" if declaration.bound == "positive" else "linear"
+            if key in bounds:
+                low, high = max(kind_low, bounds[key][0]), min(kind_high, bounds[key][1])
+                low_origin = high_origin = "given in [fit.bounds]"
+            else:
+                low, high, low_origin, high_origin = _default_range(declaration, start, scales)
+                # (not for a start that misses by rounding: 1e-3 V is the start 1e-4 itself)
+                below = float(start.min()) < low * (1.0 - 1e-9)
+                above = float(start.max()) > high * (1.0 + 1e-9)
+                if (below or above) and notes is not None:
+                    notes.append(f"The start {describe(value)} of '{key}' lies outside its "
+                                 f"default bounds [{low:.4g}, {high:.4g}] derived from the data; "
+                                 "they were widened to include it. Check the start, or give "
+                                 f"'{key}' in [fit.bounds].")
+                if below:
+                    low, low_origin = float(start.min()), "the start, below the default"
+                if above:
+                    high, high_origin = float(start.max()), "the start, above the default"
         nonzero = np.abs(start[start != 0.0])
         scale = float(nonzero.mean()) if nonzero.size else _typical_scale(declaration.unit, data)
-        frees.append(_Free(key, start, is_list, mapping, low, high, scale))
+        frees.append(_Free(key, start, is_list, mapping, low, high, scale, low_origin,
+                           high_origin))
     return frees
+
+
+def default_bounds(model, data, *, free=None) -> dict[str, tuple[float, float]]:
+    """The bounds a fit without ``[fit.bounds]`` gives each free key, from the data.
+
+    By the unit the model declares for the parameter, with ``A = max |F|``
+    the force amplitude, ``V`` the largest speed, ``L`` the displacement
+    range (``max x - min x``) and ``h`` the median time step of the data:
+
+    ======== ================================== =========================================
+    unit     range                              e.g.
+    ======== ================================== =========================================
+    N        [1e-3, 10] x A                     ``coulomb_force``, ``static_force``
+    m/s      [1e-3, 10] x V                     ``stribeck_velocity``
+    N s/m    [1e-3, 10] x A / V                 ``viscous_coefficient``, ``bristle_damping``
+    N/m      [1e-2, 1e6] x A / L                ``stiffness``, ``compliance.stiffness``
+    m        [1e-6, 10] x L                     ``surface.height_std``
+    N/s      [1e-6, 1e3] x A / h                ``attraction``
+    s        [0.1, 1e6] x h                     (a time constant)
+    other    [0.1, 10] x the start              friction coefficients, exponents, moduli
+    ======== ================================== =========================================
+
+    A parameter that cannot be negative (``viscous_coefficient``,
+    ``bristle_damping``) keeps 0 as its lower bound; one whose kind has a
+    finite range (a Poisson ratio) keeps that range; a parameter of any sign
+    gets ``[-high, high]``; the weights of GMS take no bounds (they stay
+    in (0, 1) and sum to 1 by construction).  For a list key the range holds
+    every entry (``other``: from its smallest to its largest start).  A start
+    outside its range widens the range to include it, with a warning.  With
+    a hold-out the scales come from the fitted part only.
+
+    Parameters
+    ----------
+    model : FrictionModel or dict
+        A model or a model document, as :func:`identify` takes it.
+    data : mapping of str to array_like, or a data frame
+        As :func:`identify`.
+    free : list of str, optional
+        The free keys (default: the document's ``[fit] free`` or the model's
+        ``fit_defaults``).
+
+    Returns
+    -------
+    dict
+        ``{key: (low, high)}`` for each free key (``(0, 1)`` for the weights
+        of GMS), in the parameter's unit.
+
+    Examples
+    --------
+    >>> import numpy as np, polind
+    >>> from polind.identification import default_bounds
+    >>> model = polind.model_from_dict({"model": {"type": "coulomb", "coulomb_force": 1.0}})
+    >>> t = np.linspace(0.0, 1.0, 101)
+    >>> data = {"t": t, "x": 1e-3 * np.sin(2 * np.pi * t), "F": 2.0 * np.cos(2 * np.pi * t)}
+    >>> default_bounds(model, data)
+    {'coulomb_force': (0.002, 20.0)}
+    """
+    start, keys, _ = parse_fit(model, free=free)
+    measured = _measurement(data, model=start)
+    return {free.key: (float(free.low), float(free.high))
+            for free in _build_free(start, keys, {}, measured)}
 
 
 def _split(frees: list[_Free], u: np.ndarray) -> list[np.ndarray]:
@@ -421,7 +661,7 @@ class FitResult:
         lists for list keys), in the parameter's unit.  An infinite standard
         error marks a value the data do not determine.
     rms_error : float
-        Root-mean-square of ``F_model - F_measured`` [N].
+        Root-mean-square of ``F_model - F_measured`` over the fitted samples [N].
     iterations : int
         Iterations of the trust-region-reflective solver (its Jacobian
         evaluations, one per iteration).
@@ -432,7 +672,20 @@ class FitResult:
     message : str
         The solver's reason for stopping.
     force : ndarray
-        The fitted model's force at the data samples [N].
+        The fitted model's force at every sample of the data [N] (with a
+        hold-out, the fitted part and the prediction of the rest, one run).
+    warnings : tuple of str
+        What the user should know about the fit (INTERFACE.md ``[fit]``): a
+        parameter at a bound, one the data do not determine, a column or
+        signal the model does not use, ...; empty when all is well.
+    holdout_rms_error : float or None
+        RMS of ``F_model - F_measured`` over the held-out samples [N]; None
+        without a hold-out.
+    fitted_samples : int
+        The number of samples fitted (the first ones of the data).
+    parameter_count : int
+        The number of free values the solver varied (a list key counts its
+        entries; the GMS weights, which sum to 1, one fewer).
     """
 
     model: FrictionModel
@@ -447,15 +700,46 @@ class FitResult:
     success: bool
     message: str
     force: np.ndarray = field(repr=False)
+    warnings: tuple = ()
+    holdout_rms_error: float | None = None
+    fitted_samples: int = 0
+    parameter_count: int = 0
+
+    @property
+    def aic(self) -> float:
+        """Akaike's information criterion of the fitted part (lower is better).
+
+        ``n ln(RSS / n) + 2 k``: minus twice the Gaussian log-likelihood of the
+        ``n`` fitted residuals at the maximum-likelihood variance ``RSS / n``,
+        without the constant ``n (1 + ln 2 pi)`` that every model fitted to
+        the same samples shares, plus twice the ``k`` free values
+        (:attr:`parameter_count`).  Only differences between models fitted
+        to the same samples mean anything.
+        """
+        n = self.fitted_samples
+        return n * math.log(self.rms_error ** 2) + 2.0 * self.parameter_count \
+            if self.rms_error > 0.0 else -math.inf
+
+    @property
+    def bic(self) -> float:
+        """The Bayesian (Schwarz) criterion: ``n ln(RSS / n) + k ln n``, as :attr:`aic`."""
+        n = self.fitted_samples
+        return n * math.log(self.rms_error ** 2) + self.parameter_count * math.log(n) \
+            if self.rms_error > 0.0 else -math.inf
 
     def to_fit_table(self) -> dict:
         """The ``[fit.result]`` table of INTERFACE.md.
 
-        ``{"rms_error": ..., "iterations": ..., key: {"value": ...,
+        ``{"rms_error": ..., "holdout_rms_error": ... (with a hold-out),
+        "iterations": ..., "warnings": [...], key: {"value": ...,
         "standard_error": ...}, ...}``; a dotted key stays one key
         (``[fit.result."surface.height_std"]`` in TOML).
         """
-        table = {"rms_error": float(self.rms_error), "iterations": int(self.iterations)}
+        table = {"rms_error": float(self.rms_error)}
+        if self.holdout_rms_error is not None:
+            table["holdout_rms_error"] = float(self.holdout_rms_error)
+        table["iterations"] = int(self.iterations)
+        table["warnings"] = list(self.warnings)
         for key in self.free:
             table[key] = {"value": self.values[key], "standard_error": self.standard_errors[key]}
         return table
@@ -476,8 +760,10 @@ class FitResult:
         return {"model": self.model.to_dict()["model"], "fit": fit}
 
     def summary(self) -> str:
-        """A few lines for a terminal: the RMS error and each key's value and standard error."""
-        lines = [f"{self.model.type}: rms_error = {self.rms_error:.6g} N, "
+        """A few lines for a terminal: the RMS errors and each key's value and standard error."""
+        held_out = ("" if self.holdout_rms_error is None
+                    else f", holdout_rms_error = {self.holdout_rms_error:.6g} N")
+        lines = [f"{self.model.type}: rms_error = {self.rms_error:.6g} N{held_out}, "
                  f"iterations = {self.iterations}" + ("" if self.success else
                                                       f" (stopped: {self.message})")]
         for key in self.free:
@@ -514,23 +800,66 @@ def _standard_errors(frees, u, jac, residual) -> list[np.ndarray]:
     return out
 
 
+def _fit_warnings(model, frees, values, errors, success, message) -> list[str]:
+    """A parameter at a bound, a parameter the data do not determine, a solver stopped early."""
+    notes = []
+    if not success:
+        notes.append(f"The solver stopped before converging ({message}); the values are its "
+                     "last iterate. Allow more evaluations or start closer.")
+    for free, value, error in zip(frees, values, errors):
+        several = value.size > 1
+        for index, (entry, spread) in enumerate(zip(value, error)):
+            name = f"{free.key}[{index}]" if several else free.key
+            for side, bound, origin in (("lower", free.low, free.low_origin),
+                                        ("upper", free.high, free.high_origin)):
+                if (free.mapping == "simplex" or not math.isfinite(bound)
+                        or (free.mapping == "log" and bound <= 0.0)):
+                    continue
+                tolerance = 1e-6 * (abs(bound) if bound != 0.0 else free.scale)
+                if abs(entry - bound) <= tolerance:
+                    notes.append(f"The '{name}' parameter of {model.type} ended at its {side} "
+                                 f"bound {bound:.6g} ({origin}); the data would move it "
+                                 "further: widen its [fit.bounds] or fix it.")
+            if not math.isfinite(spread) or spread > abs(entry):
+                why = ("a standard error that is not finite" if not math.isfinite(spread)
+                       else f"a standard error of {spread:.2g}, larger than the value")
+                notes.append(f"The '{name}' parameter of {model.type} is not identifiable from "
+                             f"these data ({entry:.6g} with {why}); fix it, or fit data that "
+                             "excite it.")
+    return notes
+
+
 def _result(model, start, frees, u, bounds, force, data, iterations, evaluations, success,
-            message, jac=None):
+            message, jac=None, notes=(), record=None):
+    """The FitResult; with ``record`` (the whole data of a hold-out split) its tail is scored."""
     residual = force - data.force
-    if jac is None:
-        errors = [np.full(free.start.size, np.nan) for free in frees]
-    else:
-        errors = _standard_errors(frees, u, jac, residual)
-    values, standard_errors = {}, {}
+    values, standard_errors, physical, spreads = {}, {}, [], []
+    errors = (_standard_errors(frees, u, jac, residual) if jac is not None
+              else [np.full(free.start.size, np.nan) for free in frees])
     for free, part, error in zip(frees, _split(frees, u), errors):
-        values[free.key] = free.output(free.physical(part))
+        value = free.physical(part)
+        values[free.key] = free.output(value)
         standard_errors[free.key] = free.output(error)
+        physical.append(value)
+        spreads.append(error)
+    notes = list(notes)
+    if jac is not None:
+        notes += _fit_warnings(model, frees, physical, spreads, success, message)
+    held_out = None
+    if record is not None:
+        # The held-out prediction continues the fitted part: one run over the whole record.
+        whole = record.simulate(model)
+        tail = whole[data.size:] - record.force[data.size:]
+        held_out = float(np.sqrt(np.mean(tail ** 2)))
+        force = whole
     return FitResult(model=model, start=start, free=tuple(f.key for f in frees),
                      bounds={key: tuple(pair) for key, pair in bounds.items()}, values=values,
                      standard_errors=standard_errors,
                      rms_error=float(np.sqrt(np.mean(residual ** 2))), iterations=int(iterations),
                      evaluations=int(evaluations), success=bool(success), message=str(message),
-                     force=force)
+                     force=force, warnings=tuple(notes), holdout_rms_error=held_out,
+                     fitted_samples=int(data.size),
+                     parameter_count=int(sum(free.size for free in frees)))
 
 
 # --- nonlinear least squares ------------------------------------------------------------------
@@ -586,8 +915,44 @@ def parse_fit(model, *, free=None, bounds=None) -> tuple[FrictionModel, list[str
     return start, keys, pairs
 
 
-def identify(model, data, *, free=None, bounds=None, max_evaluations=None, tolerance=1e-8,
-             diff_step=1e-6, x_scale=1.0, callback=None) -> FitResult:
+def _holdout_split(holdout, size: int) -> int | None:
+    """The number of fitted samples for a hold-out fraction (None: fit them all)."""
+    if holdout is None:
+        return None
+    if (isinstance(holdout, bool) or not isinstance(holdout, (int, float, np.integer,
+                                                              np.floating))
+            or not 0.0 < float(holdout) < 1.0):
+        raise InputError(f"The 'holdout' fraction must be a number between 0 and 1 (exclusive): "
+                         f"the share of the samples, at the end, kept out of the fit. Got "
+                         f"{describe(holdout)} instead.")
+    fitted = int(round((1.0 - float(holdout)) * size))
+    if fitted >= size:
+        raise InputError(f"The 'holdout' fraction {float(holdout)!r} of {size} samples holds "
+                         "out none of them; expected a larger fraction or more samples.")
+    return fitted
+
+
+#: A simulation of the data shorter than this [s] runs the Jacobian on one thread by
+#: default: the threads' overhead, and their contention with the BLAS's own threads
+#: (which spin between the solver's matrix products), eat the gain.
+_THREADED_SIMULATION = 5e-3
+
+
+def _worker_count(workers, columns: int, seconds: float) -> int:
+    """Threads for the Jacobian's columns (``seconds``: one simulation of the data)."""
+    if workers is None:
+        if seconds < _THREADED_SIMULATION:
+            return 1
+        return max(1, min(os.cpu_count() or 1, columns))
+    if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
+        raise InputError(f"The number of 'workers' must be a positive integer. Got "
+                         f"{describe(workers)} instead.")
+    return int(min(workers, max(columns, 1)))
+
+
+def identify(model, data, *, free=None, bounds=None, holdout=None, max_evaluations=None,
+             tolerance=1e-8, diff_step=1e-6, x_scale=1.0, callback=None,
+             workers=None) -> FitResult:
     """Identify free parameters of a friction model from measured force.
 
     Bounded nonlinear least squares on ``F_model(t; p) - F_measured``
@@ -603,23 +968,35 @@ def identify(model, data, *, free=None, bounds=None, max_evaluations=None, toler
         The starting point: a model, or a model document ``{"model": {...},
         "fit": {"free": [...], "bounds": {...}}}`` as read from a model file
         (:func:`polind.io.read_model_file`).
-    data : mapping of str to array_like
+    data : mapping of str to array_like, or a pandas DataFrame
         ``t`` [s] strictly increasing, exactly one of ``x`` [m] and ``v``
         [m/s], ``F`` [N] the measured friction force (positive when it resists
-        positive motion), optionally ``normal_load`` [N] (pol-ind only; a
-        positive load at every sample).
+        positive motion), optionally ``normal_load`` [N] (a positive load at
+        every sample).  A model that ignores a normal load (one without
+        ``reference_load``, except pol-ind) is fitted without the column,
+        with a warning.  A data frame (anything with ``columns`` that is not
+        a mapping; pandas is not imported) may hold other columns too: they
+        are not used and the warnings name them.  A mapping must hold the
+        data columns only.
     free : list of str, optional
-        Keys to identify, dotted for nested keys (``"surface.height_std"``);
-        a list-valued key (``stiffness``) is free as a whole vector.  Default:
-        the document's ``[fit] free``; without one (a bare model, or no
-        ``free`` in ``[fit]``), the model's own
+        Keys to identify, dotted for nested keys (``"surface.height_std"``,
+        ``"compliance.stiffness"``); a list-valued key (``stiffness``) is free
+        as a whole vector.  Default: the document's ``[fit] free``; without
+        one (a bare model, or no ``free`` in ``[fit]``), the model's own
         ``fit_defaults`` (:class:`polind.FrictionModel`).
     bounds : dict, optional
         Per free key ``[low, high]`` in the parameter's unit (one pair for all
-        entries of a list key).  Default: the document's ``[fit.bounds]``;
-        without bounds a positive parameter ranges over ``(0, inf)`` (it is
-        fitted on a log scale, so it never reaches 0), a non-negative one over
-        ``[0, inf)``.
+        entries of a list key).  Default: the document's ``[fit.bounds]``; a
+        free key without bounds gets the default bounds derived from the
+        data by its unit (:func:`default_bounds`), never an unbounded range.
+    holdout : float, optional
+        A fraction ``F`` in (0, 1): fit the first ``round((1 - F) n)`` of the
+        ``n`` samples (the earliest: ``t`` increases) and report the RMS error
+        on the rest as ``holdout_rms_error``.  The held-out prediction
+        continues the fitted part: the fitted model is simulated over the
+        whole record from rest, one run, and its tail is scored (not a run
+        restarted from rest at the split).  The default bounds come from the
+        fitted part only.
     max_evaluations : int, optional
         Most solver function evaluations (``max_nfev``; default
         ``100 * number of variables``).
@@ -636,22 +1013,32 @@ def identify(model, data, *, free=None, bounds=None, max_evaluations=None, toler
         is a factor e, or one scale, of its parameter).
     callback : callable, optional
         Called as ``callback(evaluations, rms_error)`` after each simulation
-        (e.g. to drive a progress bar); ``rms_error`` is ``inf`` at a trial
-        point whose parameters the model rejects (such points cost the solver
-        a large constant residual, so it backs off).
+        (e.g. to drive a progress bar; calls are serialised, but may come
+        from worker threads); ``rms_error`` is ``inf`` at a trial point
+        whose parameters the model rejects (such points cost the solver a
+        large constant residual, so it backs off).
+    workers : int, optional
+        Threads that simulate the columns of the finite-difference Jacobian
+        side by side (the numba kernels release the GIL).  Default: the
+        number of cores, at most one per column, when one simulation of the
+        data takes more than 5 ms (a long record, Pol-Ind under a varying
+        load); one thread for quicker ones, where the threads' overhead and
+        the BLAS's own threads eat the gain.  The result does not depend on
+        it.
 
     Returns
     -------
     FitResult
+        Its ``warnings`` are also issued as ``UserWarning``.
 
     Raises
     ------
     InputError
         Bad data (too few samples, fewer than free values + 1, no motion, a
-        constant force, NaN, non-increasing ``t``), or a bad ``[fit]``
-        (unknown or non-numeric free key, bounds for a key that is not free,
-        low >= high, bounds that exclude the starting value), naming the key
-        or column.
+        constant force, NaN, non-increasing ``t``), a bad ``holdout``, or a
+        bad ``[fit]`` (unknown or non-numeric free key, a free key without a
+        starting value, bounds for a key that is not free, low >= high,
+        bounds that exclude the starting value), naming the key or column.
 
     Examples
     --------
@@ -666,16 +1053,22 @@ def identify(model, data, *, free=None, bounds=None, max_evaluations=None, toler
     >>> fit = identify(start, data, free=["stiffness", "coulomb_force"])
     >>> round(fit.values["stiffness"]), round(fit.values["coulomb_force"], 6)
     (100000, 1.0)
+    >>> fit.warnings
+    ()
     """
     from scipy.optimize import least_squares
 
     start, keys, given_bounds = parse_fit(model, free=free, bounds=bounds)
-    measured = _measurement(data, normal_load_ok=start.takes_normal_load)
-    frees = _build_free(start, keys, given_bounds, measured)
+    notes = []
+    record = _measurement(data, model=start, notes=notes)
+    fitted_samples = _holdout_split(holdout, record.size)
+    measured = record if fitted_samples is None else record.head(fitted_samples)
+    frees = _build_free(start, keys, given_bounds, measured, notes)
     n_variables = sum(f.size for f in frees)
     if measured.size <= n_variables:
         raise InputError(f"Identification of {n_variables} parameter values needs more samples "
-                         f"than that. Got {measured.size} samples of 't'.")
+                         f"than that. Got {measured.size} samples of 't'"
+                         + ("." if fitted_samples is None else " in the fitted part."))
     low, high = (np.concatenate(parts) if parts else np.empty(0)
                  for parts in zip(*(f.internal_bounds() for f in frees)))
 
@@ -684,7 +1077,9 @@ def identify(model, data, *, free=None, bounds=None, max_evaluations=None, toler
     # away from 0 where scipy's relative steps would vanish.
     low, high = low + 1.0, high + 1.0
     evaluations = 0
+    counting = threading.Lock()
     last = {}
+    threads = pool = None        # the Jacobian's worker threads, while the solver runs
     # What a trial point the model rejects (e.g. a load its surface cannot carry) or
     # where it blows up costs: far more than any sensible fit, so the solver backs off.
     penalty = 10.0 * measured.scale
@@ -692,7 +1087,6 @@ def identify(model, data, *, free=None, bounds=None, max_evaluations=None, toler
     def evaluate(x):
         """The residual at x, or None where the parameters make no valid model."""
         nonlocal evaluations
-        evaluations += 1
         try:
             force = measured.simulate(_model_at(start, frees, x - 1.0))
         except InputError:
@@ -701,12 +1095,16 @@ def identify(model, data, *, free=None, bounds=None, max_evaluations=None, toler
             residual = force - measured.force
             if not np.all(np.isfinite(residual)):
                 residual = None
-        if callback is not None:
-            rms = math.inf if residual is None else float(np.sqrt(np.mean(residual ** 2)))
-            callback(evaluations, rms)
+        with counting:
+            evaluations += 1
+            if callback is not None:
+                rms = math.inf if residual is None else float(np.sqrt(np.mean(residual ** 2)))
+                callback(evaluations, rms)
         return residual
 
     def residuals(x):
+        if np.array_equal(last.get("x"), x):        # the start, simulated once below
+            return last["residual"]
         residual = evaluate(x)
         if residual is None:
             residual = np.full(measured.size, penalty)
@@ -716,36 +1114,66 @@ def identify(model, data, *, free=None, bounds=None, max_evaluations=None, toler
     def jacobian(x):
         """Forward differences with a fixed step in the solver's variables (backward at an
         upper bound or where the forward point is invalid); the residual at x is the one
-        the solver has just evaluated."""
+        the solver has just evaluated.  Columns are independent simulations: on threads."""
         base = last["residual"] if np.array_equal(last.get("x"), x) else residuals(x)
-        columns = np.zeros((base.size, x.size))
-        for j in range(x.size):
+
+        def column(j):
             forward = diff_step if x[j] + diff_step <= high[j] else -diff_step
             for step in (forward, -forward):
                 moved = x.copy()
                 moved[j] += step
                 residual = evaluate(moved)
                 if residual is not None:
-                    columns[:, j] = (residual - base) / step
-                    break
-        return columns
+                    return (residual - base) / step
+            return np.zeros(base.size)
+
+        nonlocal pool
+        columns, rest = [], range(x.size)
+        if threads is None:
+            # The first column, timed, decides how many threads the others get.
+            clock = time.perf_counter()
+            columns.append(column(0))
+            threads_for(_worker_count(workers, x.size, time.perf_counter() - clock))
+            rest = range(1, x.size)
+        columns += pool.map(column, rest) if pool is not None else map(column, rest)
+        return np.column_stack(columns)
+
+    def threads_for(count):
+        nonlocal threads, pool
+        threads = count
+        if count > 1:
+            from concurrent.futures import ThreadPoolExecutor
+            pool = ThreadPoolExecutor(max_workers=count, thread_name_prefix="polind-fit")
 
     first = measured.simulate(start)
     if not np.all(np.isfinite(first)):
         raise InputError(f"The starting {start.type} model gives a non-finite force on these "
                          "data; check its parameters.")
+    last["x"], last["residual"] = np.ones(n_variables), first - measured.force
+    holdout_record = None if fitted_samples is None else record
     if n_variables == 0:
-        return _result(start, start, frees, np.zeros(0), given_bounds, first, measured, 0, 1,
-                       True, "nothing to identify")
-    solution = least_squares(residuals, np.ones(n_variables), jac=jacobian, bounds=(low, high),
-                             method="trf", x_scale=x_scale, ftol=tolerance, xtol=tolerance,
-                             gtol=tolerance, max_nfev=max_evaluations)
-    solution.x = solution.x - 1.0
-    fitted = _model_at(start, frees, solution.x)
-    force = measured.simulate(fitted)
-    return _result(fitted, start, frees, solution.x, given_bounds, force, measured,
-                   solution.njev or 0, evaluations, solution.status > 0, solution.message,
-                   jac=solution.jac)
+        result = _result(start, start, frees, np.zeros(0), given_bounds, first, measured, 0, 1,
+                         True, "nothing to identify", notes=notes, record=holdout_record)
+    else:
+        if workers is not None:
+            threads_for(_worker_count(workers, n_variables, math.inf))
+        try:
+            solution = least_squares(residuals, np.ones(n_variables), jac=jacobian,
+                                     bounds=(low, high), method="trf", x_scale=x_scale,
+                                     ftol=tolerance, xtol=tolerance, gtol=tolerance,
+                                     max_nfev=max_evaluations)
+        finally:
+            if pool is not None:
+                pool.shutdown()
+        solution.x = solution.x - 1.0
+        fitted = _model_at(start, frees, solution.x)
+        force = measured.simulate(fitted)
+        result = _result(fitted, start, frees, solution.x, given_bounds, force, measured,
+                         solution.njev or 0, evaluations, solution.status > 0, solution.message,
+                         jac=solution.jac, notes=notes, record=holdout_record)
+    for note in result.warnings:
+        warnings.warn(note, UserWarning, stacklevel=2)
+    return result
 
 
 # --- structure: Maxwell-slip elements by NNLS ----------------------------------------------------
@@ -999,8 +1427,12 @@ def plot_fit(data, results, path, *, window=None, title=None, dpi=120) -> None:
     title : str, optional
     dpi : int
     """
+    from io import BytesIO
+
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
+
+    from polind import io
 
     measured = _measurement(data)
     labelled = _labelled(results)
@@ -1036,4 +1468,6 @@ def plot_fit(data, results, path, *, window=None, title=None, dpi=120) -> None:
         axes.grid(alpha=0.3)
     zoomed.legend(loc="best", fontsize=8)
     against_x.legend(loc="best", fontsize=8)
-    figure.savefig(path, dpi=dpi, format="png")
+    buffer = BytesIO()
+    figure.savefig(buffer, dpi=dpi, format="png")
+    io.atomic_write_bytes(path, buffer.getvalue())      # the output rules of every command
