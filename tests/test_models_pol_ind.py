@@ -331,3 +331,17 @@ def test_gms_parameters_are_the_gms_this_model_is_at_its_load():
     x = 4e-7 * np.sin(2 * np.pi * 6 * t) + 2e-3 * t
     np.testing.assert_array_equal(polind.simulate(gms, t, x=x).force,
                                   polind.simulate(model, t, x=x).force)
+
+
+def test_models_with_the_same_surface_share_it_and_others_do_not():
+    table = default_table()
+    table["discretisation"] = {"summation": "direct", "seed": 3, "elements": 16}
+    one = polind.model_from_dict({"model": table})
+    other = one.with_params(static_coefficient=0.2, kinetic_coefficient=0.12)
+    assert one.contact().surface is other.contact().surface
+    np.testing.assert_allclose(one.element_table().weight, other.element_table().weight,
+                               rtol=1e-14)
+    # The break-away forces are the model's own (mu_s N times the weights).
+    np.testing.assert_allclose(other.element_table().breakaway_force.sum(), 0.2 * 100.0)
+    rougher = one.with_params(surface=dict(table["surface"], height_std=1e-6))
+    assert rougher.contact().surface is not one.contact().surface

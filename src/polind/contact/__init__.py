@@ -15,7 +15,7 @@ from polind.contact.asperity import (
     slip_capacity,
     tangential_stiffness,
 )
-from polind.contact.builder import Contact, build_contact, default_contact_parameters
+from polind.contact.builder import Contact, build_contact, build_surface, default_contact_parameters
 from polind.contact.elements import ElementTable, element_properties, element_table
 from polind.contact.greenwood import VALID_RANGE, gw_integral
 from polind.contact.materials import effective_moduli, shear_modulus
@@ -29,6 +29,7 @@ __all__ = [
     "StatisticalSurface",
     "VALID_RANGE",
     "build_contact",
+    "build_surface",
     "contact_radius",
     "default_contact_parameters",
     "effective_moduli",

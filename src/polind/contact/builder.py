@@ -21,7 +21,7 @@ from polind.contact.separation import solve_separation
 from polind.contact.surface import DirectSurface, StatisticalSurface
 from polind.errors import InputError, describe
 
-__all__ = ["Contact", "build_contact", "default_contact_parameters"]
+__all__ = ["Contact", "build_contact", "build_surface", "default_contact_parameters"]
 
 # The default Pol-Ind parameter set of INTERFACE.md (a steel pair under 100 N),
 # restricted to the keys the contact mechanics reads.
@@ -119,7 +119,7 @@ def _pair(table: Mapping, key: str) -> tuple:
     return tuple(value)
 
 
-def build_contact(params: Mapping | None = None, base_dir=None) -> Contact:
+def build_contact(params: Mapping | None = None, base_dir=None, *, surface=None) -> Contact:
     """Build the loaded contact of a pol-ind model table.
 
     Parameters
@@ -138,6 +138,9 @@ def build_contact(params: Mapping | None = None, base_dir=None) -> Contact:
     base_dir : str or os.PathLike, optional
         Directory a relative ``heights_file`` is read from (the model file's);
         default: the current directory.
+    surface : StatisticalSurface or DirectSurface, optional
+        The table's surface, already built (:func:`build_surface`); default:
+        built here.
 
     Returns
     -------
@@ -163,6 +166,27 @@ def build_contact(params: Mapping | None = None, base_dir=None) -> Contact:
     static_coefficient = positive_number(
         params.get("static_coefficient", _DEFAULTS["static_coefficient"]), "static_coefficient"
     )
+    if surface is None:
+        surface = build_surface(params, base_dir)
+    discretisation = _table(params, "discretisation")
+    separation = solve_separation(surface, normal_load)
+    elements = element_table(
+        surface, separation, static_coefficient, discretisation["elements"], normal_load=normal_load
+    )
+    return Contact(surface=surface, normal_load=normal_load, separation=separation, elements=elements)
+
+
+def build_surface(params: Mapping | None = None, base_dir=None):
+    """The surface of a pol-ind model table (statistical or direct), before any load.
+
+    The part of :func:`build_contact` that depends only on the ``surface``,
+    ``materials`` and ``discretisation`` tables (for a direct surface the
+    sampled or measured summits, sorted): what a fit may reuse while only
+    friction keys move.
+    """
+    params = {} if params is None else params
+    if not isinstance(params, Mapping):
+        raise InputError(f"The model table of pol-ind must be a table. Got {describe(params)}.")
     surface_keys = _table(params, "surface")
     materials = _table(params, "materials")
     discretisation = _table(params, "discretisation")
@@ -213,9 +237,4 @@ def build_contact(params: Mapping | None = None, base_dir=None) -> Contact:
             "The 'discretisation.summation' of pol-ind must be \"statistical\" or \"direct\". "
             f"Got {describe(summation)}."
         )
-
-    separation = solve_separation(surface, normal_load)
-    elements = element_table(
-        surface, separation, static_coefficient, discretisation["elements"], normal_load=normal_load
-    )
-    return Contact(surface=surface, normal_load=normal_load, separation=separation, elements=elements)
+    return surface

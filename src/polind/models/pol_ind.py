@@ -30,7 +30,10 @@ time-varying load):
 from __future__ import annotations
 
 import functools
+import json
 import math
+import os
+from collections import OrderedDict
 
 import numpy as np
 
@@ -74,6 +77,38 @@ def default_table() -> dict:
         "materials": {"youngs_modulus": [210e9, 210e9], "poisson_ratio": [0.3, 0.3]},
         "discretisation": {"summation": "statistical", "elements": 64, "seed": 0},
     }
+
+
+# Surfaces built from the same surface, materials and discretisation tables are
+# the same (sampled summits are seeded; a heights file is keyed with its size and
+# modification time): a fit that moves only friction keys builds one, not one per
+# evaluation (a sampled direct surface takes 0.16 s).
+_SURFACES: "OrderedDict[str, object]" = OrderedDict()
+_SURFACES_KEPT = 8
+
+
+def _surface_of(params):
+    """The surface of a parameter set, from the cache of recently built ones."""
+    from polind.contact import build_surface
+
+    parts = {key: params.get(key) for key in ("surface", "materials", "discretisation")}
+    heights = (params.get("discretisation") or {}).get("heights_file")
+    if heights:
+        try:
+            status = os.stat(heights)
+            parts["heights_file_status"] = [status.st_size, status.st_mtime_ns]
+        except OSError:
+            return build_surface(params)            # its own error message
+    key = json.dumps(parts, sort_keys=True, default=str)
+    surface = _SURFACES.get(key)
+    if surface is None:
+        surface = build_surface(params)
+        _SURFACES[key] = surface
+        while len(_SURFACES) > _SURFACES_KEPT:
+            _SURFACES.popitem(last=False)
+    else:
+        _SURFACES.move_to_end(key)
+    return surface
 
 
 @register
@@ -177,7 +212,8 @@ class PolInd(FrictionModel):
         if load not in self._contacts:
             if len(self._contacts) >= 8:
                 self._contacts.pop(next(iter(self._contacts)))
-            contact = build_contact({**self._params, "normal_load": load})
+            contact = build_contact({**self._params, "normal_load": load},
+                                    surface=_surface_of(self._params))
             table = contact.elements
             for name, values in (("stiffness", table.stiffness), ("weight", table.weight)):
                 if not np.all(np.isfinite(values)):
