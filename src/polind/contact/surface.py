@@ -130,7 +130,7 @@ class StatisticalSurface:
         )
 
     def load_and_slope(self, d: float) -> tuple[float, float]:
-        """``(N(d), dN/dd)`` for one separation ``d`` [m]: the solver's fast path."""
+        """``(N(d), dN/dd)`` for one separation ``d`` [m] (one Python call)."""
         f_half, f_three_halves = half_integer_pair(d / self.height_std)
         scale = self._load_scale
         return scale * f_three_halves, -1.5 * scale / self.height_std * f_half
@@ -299,7 +299,7 @@ class DirectSurface:
         return math.pi * self.asperity_radius * self._moments(d)[..., 2]
 
     def load_and_slope(self, d: float) -> tuple[float, float]:
-        """``(N(d), dN/dd)`` for one separation ``d`` [m]: the solver's fast path."""
+        """``(N(d), dN/dd)`` for one separation ``d`` [m] (one Python call)."""
         _, root_sum, _, load_sum = tail_moments(self.heights, self.counts, float(d))
         scale = self._hertz_scale()
         return scale * load_sum, -1.5 * scale * root_sum

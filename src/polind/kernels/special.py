@@ -2,7 +2,9 @@
 
 The Greenwood–Williamson load integrals ``F_{1/2}`` and ``F_{3/2}``
 (MODELS.md 7.3) are written with ``kve`` and ``ive`` of orders ±1/4, ±3/4
-(:mod:`polind.kernels.separation`).  Inside a kernel these are SciPy's own
+(:func:`polind.kernels.separation.gw_half_integer_pair`; the separation
+solver itself evaluates a faster polynomial approximation, and calls these
+only outside its range).  Inside a kernel these are SciPy's own
 compiled functions from :mod:`scipy.special.cython_special` (the ``double``
 specialisations ``__pyx_fuse_1kve`` and ``__pyx_fuse_1ive``, the same code
 as the ufuncs ``scipy.special.kve``/``ive``), not an approximation of ours, so
