@@ -65,7 +65,11 @@ class _LoadCheck:
         self.warned = False
 
     def __call__(self, normal_load):
-        load = check_number(self.owner, "normal_load", normal_load, "positive")
+        # Fast path: a plain float, checked with comparisons only.
+        if type(normal_load) is float and 0.0 < normal_load < math.inf:
+            load = normal_load
+        else:
+            load = check_number(self.owner, "normal_load", normal_load, "positive")
         if not self.takes_load:
             if not self.warned:
                 from polind.simulate import warn_ignored_load
@@ -332,6 +336,7 @@ class Body:
         self._rest_capacity = kernel.rest_capacity if self._memoryless else 0.0
         self._scratch = kernel.scratch
         self._check_load = _LoadCheck(model, start, "Body")
+        self._last_load = kernel.normal_load
         friction = initial_friction(kernel, velocity, 0.0)
         # [x_n, v_n, v_{n-1}, w_n, history, friction]: what the next step needs.
         self._body = np.array([position, velocity, velocity, velocity, 0.0, friction])
@@ -372,13 +377,12 @@ class Body:
             raise InputError(f"The 'applied_force' of Body.step must be finite. "
                              f"Got {applied_force!r} instead.")
         kernel = self._kernel
-        if normal_load is None:
-            load = kernel.normal_load
-        else:
-            load = self._check_load(normal_load)
+        load = kernel.normal_load if normal_load is None else self._check_load(normal_load)
+        if load != self._last_load:
             # Bring the model to the new load on its real state first (the model's
-            # force function does that): the solver's trial steps run on a copy.
+            # force function does that): the solver's trials run on a copy.
             kernel.force(kernel.scalars, kernel.table, kernel.state, float(self._body[1]), load)
+            self._last_load = load
         # The step from the sample times as simulate_system computes them.
         step = self._time_at(self._steps + 1) - self._time_at(self._steps)
         kernel.advance_body(self._memoryless, self._rest_capacity, kernel.force_scale,
