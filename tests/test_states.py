@@ -120,3 +120,19 @@ def test_a_400_digit_integer_in_a_model_file_exits_2(tmp_path):
     assert _run(["simulate", str(path), "--input", str(motion), "--output",
                  str(tmp_path / "out.csv")]) == 2
     assert not (tmp_path / "out.csv").exists()
+
+
+def test_a_model_error_found_late_is_blamed_on_the_model_file(tmp_path, capsys):
+    from polind.cli import _run
+
+    table = default_table()
+    table["static_coefficient"] = 1e300
+    import tomli_w
+    model = tmp_path / "model.toml"
+    model.write_text(tomli_w.dumps({"model": table}))
+    motion = tmp_path / "motion.csv"
+    motion.write_text("t,x\n0,0\n0.001,1e-7\n")
+    assert _run(["simulate", str(model), "--input", str(motion), "--output",
+                 str(tmp_path / "out.csv")]) == 2
+    err = capsys.readouterr().err
+    assert f"{model}: " in err and "static_coefficient" in err

@@ -77,11 +77,18 @@ def blame(path):
 
 
 def load_model(path):
-    """The model of a model file, errors prefixed with the file's path."""
+    """The model of a model file, errors prefixed with the file's path.
+
+    What the model derives from its parameters (a Pol-Ind contact, kernel
+    arrays) is built here too, so that a parameter that gives no valid model
+    is blamed on the model file, not on a motion or data file read later.
+    """
     import polind
 
     with blame(path):
-        return polind.load_model(path)
+        model = polind.load_model(path)
+        model.step_kernel()
+        return model
 
 
 def check_output_path(path) -> None:
