@@ -105,7 +105,7 @@ def _stderr_is_terminal() -> bool:
         return False
 
 
-def progress(total=None, description="", unit="step"):
+def progress(total=None, description="", unit="step", unit_scale=False):
     """A progress bar on a terminal, nothing when standard error is piped.
 
     Returns a ``tqdm`` object (disabled when not on a terminal: its
@@ -119,8 +119,34 @@ def progress(total=None, description="", unit="step"):
     """
     from tqdm import tqdm
 
-    return tqdm(total=total, desc=description, unit=unit, file=sys.stderr, leave=False,
-                dynamic_ncols=True, disable=not _stderr_is_terminal())
+    return tqdm(total=total, desc=description, unit=unit, unit_scale=unit_scale,
+                file=sys.stderr, leave=False, dynamic_ncols=True,
+                disable=not _stderr_is_terminal())
+
+
+def advancing(bar):
+    """A ``progress(done, total)`` callback that moves ``bar`` to ``done`` of ``total``."""
+    def advance(done, total):
+        bar.total = total
+        bar.update(done - bar.n)
+    return advance
+
+
+def read_samples(path, **columns):
+    """A motion or data file (CSV or Parquet), with a progress bar over its bytes."""
+    from polind import io
+
+    with progress(description="read", unit="B", unit_scale=True) as bar:
+        return io.read_motion_csv(path, progress=advancing(bar), **columns)
+
+
+def write_samples(path, columns):
+    """A table of samples (CSV or Parquet by extension), with a progress bar over its rows."""
+    from polind import io
+
+    rows = len(next(iter(columns.values())))
+    with progress(total=rows, description="write", unit=" rows") as bar:
+        io.write_csv_atomic(path, columns, progress=advancing(bar))
 
 
 # --- the commands ---------------------------------------------------------------------------
@@ -146,7 +172,8 @@ def cli():
 def simulate(model_path, motion_path, output_path):
     """Friction force along a prescribed motion.
 
-    Writes OUT.csv with the header t,x,v,F (SI units, full float precision).
+    Writes OUT.csv with the header t,x,v,F (SI units, full float precision);
+    MOTION and OUT may be Parquet files (.parquet), OUT may be - (stdout).
     """
     import polind
     from polind import io
@@ -154,14 +181,15 @@ def simulate(model_path, motion_path, output_path):
     refuse_overwriting_inputs([model_path, motion_path], {"--output": output_path})
     check_output_path(output_path)
     model = load_model(model_path)
-    motion = io.read_motion_csv(motion_path)
+    motion = read_samples(motion_path)
     with blame(motion_path), progress(total=len(motion["t"]), description="simulate",
                                       unit=" samples") as bar:
         result = polind.simulate(model, motion["t"], x=motion.get("x"), v=motion.get("v"),
                                  normal_load=motion.get("normal_load"),
-                                 progress=lambda done, total: bar.update(done - bar.n))
-    io.write_csv_atomic(output_path, {"t": result.t, "x": result.x, "v": result.v,
-                                      "F": result.force})
+                                 progress=advancing(bar))
+    del motion
+    write_samples(output_path, {"t": result.t, "x": result.x, "v": result.v,
+                                "F": result.force})
     click.echo(f"wrote {output_path}: {len(result.t)} samples", err=os.fspath(output_path) == "-")
 
 
@@ -207,6 +235,73 @@ def surface(model_path, as_json):
         lines.append(f"  {j:>7}  {element['stiffness']:>16.6g}  {element['breakaway_force']:>14.6g}"
                      f"  {element['asperities']:>11.6g}  {element['interference']:>17.6g}")
     click.echo("\n".join(lines))
+
+
+@cli.command()
+@click.argument("map_path", metavar="FILE", type=_file_path())
+@click.option("--json", "as_json", is_flag=True,
+              help="Print one JSON object instead of the readable summary.")
+@click.option("--plot", "plot_path", default=None, type=_file_path(), metavar="PNG",
+              help="Also write a PNG: the levelled map and its summits, summit heights and "
+                   "radii, N(d) beside the Greenwood-Williamson equivalent.")
+@click.option("--pixel-size", "pixel_size", nargs=2, type=float, default=None,
+              metavar="DX DY", help="Pixel size [m] of a .npy/.csv grid (heights in metres).")
+@click.option("--short-cutoff", "short_cutoff", type=float, default=None, metavar="L",
+              help="Gaussian low-pass (ISO 16610-61) cut-off wavelength [m] applied before "
+                   "summit finding.")
+def topography(map_path, as_json, plot_path, pixel_size, short_cutoff):
+    """A measured height map: levelling, summits and their radii, the GW equivalent.
+
+    FILE is any height map SurfaceTopography reads (x3p, sur, plu, opd, datx,
+    di, ...; units from the file), or a .npy / .csv grid h[i, j] (i along x)
+    in metres with --pixel-size.  With --json: an object with keys grid,
+    pixel_size, valid_points, rms_height, summits, summit_density,
+    summit_radius_mean, summit_radius_median, summit_height_std and
+    greenwood_williamson ({asperity_density, asperity_radius, height_std}).
+    """
+    import json
+
+    from polind import io
+    from polind import topography as measured
+
+    refuse_overwriting_inputs([map_path], {"--plot": plot_path})
+    to_stdout = plot_path is not None and os.fspath(plot_path) == io.STDOUT
+    if to_stdout and as_json:
+        raise InputError("--plot -: the PNG and --json would both go to standard output; "
+                         "expected a file name for --plot.")
+    with blame(map_path):
+        surface = measured.load_measured_surface(map_path, pixel_size=pixel_size,
+                                                 short_cutoff=short_cutoff)
+    if plot_path is not None:
+        io.atomic_write_bytes(plot_path, measured.figure_png(surface))
+    summary = surface.summary()
+    if as_json:
+        click.echo(json.dumps(summary, allow_nan=False))
+        return
+    (nx, ny), (dx, dy) = summary["grid"], summary["pixel_size"]
+    gw = summary["greenwood_williamson"]
+    cutoff = summary["short_cutoff"]
+    lines = [
+        f"Height map {map_path}: {nx} x {ny} points, pixel {dx:.6g} x {dy:.6g} m",
+        f"  valid points       {summary['valid_points']} of {nx * ny} "
+        f"(nominal area {summary['nominal_area']:.6g} m^2)",
+        f"  low-pass cut-off   {'none' if cutoff is None else f'{cutoff:.6g} m'}",
+        f"  rms height         {summary['rms_height']:.6g} m (after levelling)",
+        f"  summits            {summary['summits']} "
+        f"(density {summary['summit_density']:.6g} 1/m^2)",
+        f"  summit radius      {summary['summit_radius_mean']:.6g} m (1 / mean curvature), "
+        f"median {summary['summit_radius_median']:.6g} m",
+        f"  summit heights     mean {summary['summit_height_mean']:.6g} m, "
+        f"std {summary['summit_height_std']:.6g} m (above the mean plane)",
+        "",
+        "The Greenwood-Williamson equivalent, as keys of [model.surface]:",
+        f"  asperity_density = {gw['asperity_density']:.6g}",
+        f"  asperity_radius = {gw['asperity_radius']:.6g}",
+        f"  height_std = {gw['height_std']:.6g}",
+    ]
+    if plot_path is not None and not to_stdout:
+        lines += ["", f"wrote {plot_path}"]
+    click.echo("\n".join(lines), err=to_stdout)
 
 
 @cli.command()
@@ -264,7 +359,8 @@ def bench(models):
 def dynamics(model_path, system_path, output_path):
     """A one-degree-of-freedom system: a mass driven by a spring and/or a force.
 
-    Writes OUT.csv with the header t,x,v,F,F_applied (SI units).
+    Writes OUT.csv with the header t,x,v,F,F_applied (SI units); a .parquet
+    OUT is written as Parquet, - to standard output.
     """
     import polind
     from polind import io
@@ -280,8 +376,8 @@ def dynamics(model_path, system_path, output_path):
             bar.update(done - bar.n)
 
         result = polind.simulate_system(model, system, progress=advance)
-    io.write_csv_atomic(output_path, {"t": result.t, "x": result.x, "v": result.v,
-                                      "F": result.force, "F_applied": result.applied})
+    write_samples(output_path, {"t": result.t, "x": result.x, "v": result.v,
+                                "F": result.force, "F_applied": result.applied})
     click.echo(f"wrote {output_path}: {len(result.t)} samples", err=os.fspath(output_path) == "-")
 
 
@@ -382,7 +478,7 @@ def fit(model_path, data_path, output_path, plot_path, holdout):
     with blame(model_path):
         document = io.read_model_file(model_path)
         model, free, bounds = identification.parse_fit(document)
-    data = io.read_motion_csv(data_path, **io.MEASUREMENT_COLUMNS)
+    data = read_samples(data_path, **io.MEASUREMENT_COLUMNS)
     with progress(description="fit", unit=" simulations") as bar:
         def advance(evaluations, rms):
             bar.set_postfix_str(f"rms {rms:.4g} N", refresh=False)
@@ -437,7 +533,7 @@ def compare(model_paths, data_path, holdout, output_path, plot_path):
         with blame(path):
             documents[label] = io.read_model_file(path)
             identification.parse_fit(documents[label])
-    data = io.read_motion_csv(data_path, **io.MEASUREMENT_COLUMNS)
+    data = read_samples(data_path, **io.MEASUREMENT_COLUMNS)
     with progress(total=len(documents), description="compare", unit=" models") as bar:
         def advance(done, total, label):
             bar.update(done - bar.n)

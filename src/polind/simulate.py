@@ -17,8 +17,12 @@ from polind.models import FrictionModel, Path, State
 
 __all__ = ["SimulationResult", "simulate", "as_samples", "warn_ignored_load", "CHUNK"]
 
-#: Samples per kernel call in a long run (bounded memory per call, progress between calls).
+#: Samples between two progress reports of a long run.
 CHUNK = 1 << 18
+
+# Samples per block of step arrays: simulate cuts the motion into steps one block at a time
+# (the kernel's state carries over), so that it holds those arrays for a block, not a run.
+_BLOCK = 1 << 15
 
 
 @dataclass
@@ -32,7 +36,8 @@ class SimulationResult:
         every sample, float64, same length.
     normal_load : ndarray or None
         The normal load [N] used at every sample (None when none was given
-        or the model ignores it).
+        or the model ignores it): the array given, not a copy, when it is
+        already a writeable 1-D float64 array.
     final_state : State
         Pass it as ``state=`` to continue the run.
     """
@@ -45,12 +50,20 @@ class SimulationResult:
     normal_load: np.ndarray | None = None
 
 
-def _converted(name, values, length=None):
-    """A 1-D float64 copy of ``values`` of the given length; InputError naming ``name`` otherwise."""
+def _converted(name, values, length=None, copy=True):
+    """A 1-D float64 copy of ``values`` of the given length; InputError naming ``name`` otherwise.
+
+    With ``copy=False`` a writeable C-contiguous float64 array is taken as it is.
+    """
     try:
         if np.iscomplexobj(values):
             raise TypeError("complex")
-        array = np.array(values, dtype=np.float64, copy=True)
+        if copy:
+            array = np.array(values, dtype=np.float64, copy=True)
+        else:
+            array = np.asarray(values, dtype=np.float64)
+            if not (array.flags.c_contiguous and array.flags.writeable):
+                array = array.copy()
     except (TypeError, ValueError, OverflowError):
         raise InputError(f"The '{name}' samples must be numbers. Got {describe(values)} "
                          "instead.") from None
@@ -68,9 +81,12 @@ def _not_finite(name, array, index):
                       f"index {index} instead.")
 
 
-def as_samples(name, values, length=None, *, positive=False):
-    """A finite 1-D float64 copy of ``values``; InputError naming ``name`` otherwise."""
-    array = _converted(name, values, length)
+def as_samples(name, values, length=None, *, positive=False, copy=True):
+    """A finite 1-D float64 copy of ``values``; InputError naming ``name`` otherwise.
+
+    With ``copy=False`` a writeable C-contiguous float64 array is checked and returned as it is.
+    """
+    array = _converted(name, values, length, copy)
     bad = np.flatnonzero(~np.isfinite(array))
     if bad.size:
         raise _not_finite(name, array, bad[0])
@@ -129,6 +145,84 @@ def _check_continuation(state, t, x, v):
                              f"velocity {state.velocity!r}. Got v[0] = {v0!r}.")
 
 
+class _SteppedMotion:
+    """A prescribed motion, validated and cut into steps at constant velocity a block at a time.
+
+    ``t``, ``x`` and ``sample_velocity`` cover every sample (``x`` or
+    ``sample_velocity`` is the converted motion itself).  The step arrays
+    ``step``, ``displacement`` and ``step_velocity`` hold one block of
+    ``block`` samples: after :meth:`cut` ``(lo, hi)``, entry ``k`` is the step
+    that ends at sample ``lo + k``.  A run that walks the blocks in order holds
+    three arrays of a block, not of every sample; with ``block=None`` one block
+    covers the whole motion (:func:`make_path`).  Constructing it cuts every
+    block once, so that a bad motion is refused before anything runs.
+    """
+
+    def __init__(self, t, x=None, v=None, state=None, block=None):
+        if (x is None) == (v is None):
+            raise InputError("Give exactly one of 'x' (displacement) and 'v' (velocity). Got "
+                             + ("both." if x is not None else "neither."))
+        self.t = _time(t)
+        n = self.t.shape[0]
+        self.name = "x" if x is not None else "v"
+        self.motion = _converted(self.name, x if x is not None else v, n)
+        self.by_velocity = x is None
+        if self.by_velocity:
+            self.x, self.sample_velocity = np.empty(n), self.motion
+        else:
+            self.x, self.sample_velocity = self.motion, np.empty(n)
+        self.block = n if block is None else min(block, n)
+        self.step = np.empty(self.block)
+        self.displacement = np.empty(self.block)
+        self.step_velocity = np.empty(self.block)
+        self._start = (0.0 if state is None else state.position,
+                       0.0 if state is None else state.velocity, state is not None)
+        self._check()
+
+    def blocks(self, lo, hi):
+        """``(a, b)`` bounds of the blocks over samples ``lo .. hi - 1``, each starting at the
+        previous block's last sample."""
+        while True:
+            b = min(lo + self.block, hi)
+            yield lo, b
+            if b >= hi:
+                return
+            lo = b - 1
+
+    def cut(self, lo, hi):
+        """Fill the step arrays for samples ``lo .. hi - 1`` (and ``x``, ``sample_velocity``
+        there); return ``cut_path``'s code and the sample it names."""
+        from polind.kernels.contract import cut_path
+
+        if lo == 0:
+            position, velocity, continuing = self._start
+        else:       # continue from the previous block's last sample, as one pass would
+            position, velocity, continuing = self.x[lo], self.sample_velocity[lo], True
+        m = hi - lo
+        code, index = cut_path(self.t[lo:hi], self.motion[lo:hi], self.by_velocity, position,
+                               velocity, continuing, self.step[:m], self.displacement[:m],
+                               self.step_velocity[:m], self.sample_velocity[lo:hi],
+                               self.x[lo:hi])
+        return code, lo + index
+
+    def _check(self):
+        """The first non-finite motion sample, else the first overflow, is an InputError."""
+        from polind.kernels.contract import NOT_FINITE, OVERFLOW
+
+        overflow = None
+        for lo, hi in self.blocks(0, self.t.shape[0]):
+            code, index = self.cut(lo, hi)
+            if code == NOT_FINITE:       # every earlier sample is finite: the first one
+                raise _not_finite(self.name, self.motion, index)
+            if code == OVERFLOW and overflow is None:
+                overflow = index
+        if overflow is not None:
+            what = "step velocities" if self.name == "x" else "integrated displacements"
+            raise InputError(f"The '{self.name}' samples overflow: their {what} are not finite "
+                             f"from index {overflow} on. Use SI units (m, m/s, s) of a physical "
+                             f"size.")
+
+
 def make_path(t, x=None, v=None, state=None) -> Path:
     """Cut a prescribed motion into steps at constant velocity (INTERFACE.md).
 
@@ -139,31 +233,9 @@ def make_path(t, x=None, v=None, state=None) -> Path:
     the mean of its end samples and ``x`` the trapezoidal integral from 0 (or
     from the state's position).
     """
-    if (x is None) == (v is None):
-        raise InputError("Give exactly one of 'x' (displacement) and 'v' (velocity). Got "
-                         + ("both." if x is not None else "neither."))
-    from polind.kernels.contract import NOT_FINITE, OVERFLOW, cut_path
-
-    t = _time(t)
-    n = t.shape[0]
-    name = "x" if x is not None else "v"
-    motion = _converted(name, x if x is not None else v, n)
-    step, displacement, step_velocity = np.empty(n), np.empty(n), np.empty(n)
-    if x is not None:
-        x, sample_velocity = motion, np.empty(n)
-    else:
-        x, sample_velocity = np.empty(n), motion
-    code, index = cut_path(t, motion, x is not motion, 0.0 if state is None else state.position,
-                           0.0 if state is None else state.velocity, state is not None, step,
-                           displacement, step_velocity, sample_velocity, x)
-    if code == NOT_FINITE:
-        raise _not_finite(name, motion, index)
-    if code == OVERFLOW:
-        what = "step velocities" if name == "x" else "integrated displacements"
-        raise InputError(f"The '{name}' samples overflow: their {what} are not finite from "
-                         f"index {index} on. Use SI units (m, m/s, s) of a physical size.")
-    return Path(t=t, x=x, step=step, displacement=displacement, step_velocity=step_velocity,
-                sample_velocity=sample_velocity)
+    motion = _SteppedMotion(t, x, v, state)
+    return Path(t=motion.t, x=motion.x, step=motion.step, displacement=motion.displacement,
+                step_velocity=motion.step_velocity, sample_velocity=motion.sample_velocity)
 
 
 def simulate(model: FrictionModel, t, x=None, v=None, *, normal_load=None,
@@ -219,12 +291,17 @@ def simulate(model: FrictionModel, t, x=None, v=None, *, normal_load=None,
             raise InputError(f"The 'state' must be a polind State (a result's final_state or "
                              f"State.from_dict). Got {describe(state)} instead.")
         model.check_state(state)
-    path = make_path(t, x, v, state)
+    # Memory: t, x, v and the forces (32 bytes a sample), the load given, and step
+    # arrays for one block of samples.
+    path = _SteppedMotion(t, x, v, state, block=_BLOCK)
     if state is not None:
-        _check_continuation(state, path.t, x, v)
+        given = path.motion
+        _check_continuation(state, path.t, given if x is not None else None,
+                            given if x is None else None)
     load = None
     if normal_load is not None:
-        load = as_samples("normal_load", normal_load, path.t.shape[0], positive=True)
+        load = as_samples("normal_load", normal_load, path.t.shape[0], positive=True,
+                          copy=False)
         if not model.uses_normal_load:
             warn_ignored_load(model)
             load = None
@@ -243,10 +320,11 @@ def simulate(model: FrictionModel, t, x=None, v=None, *, normal_load=None,
 
 
 def _advance_in_chunks(model, path, state, load, progress):
-    """Run the model's step over the path in chunks of CHUNK samples; return the forces.
+    """Run the model's step over the path, reporting progress every CHUNK samples; return the forces.
 
-    The kernel runs once per chunk on the same arrays (a chunk starts at the
-    previous chunk's last sample), so the chunking never changes a result.
+    The kernel runs once per block of the path (a block starts at the
+    previous block's last sample, and the kernel's state carries over), so
+    neither the blocks nor the chunks ever change a result.
     """
     kernel = model.step_kernel(state, load)
     n = path.t.shape[0]
@@ -254,8 +332,12 @@ def _advance_in_chunks(model, path, state, load, progress):
     lo = 0
     while True:
         hi = min(lo + CHUNK, n)
-        kernel.run(path.step, path.displacement, path.step_velocity, path.sample_velocity, load,
-                   lo, hi, lo == 0, force)
+        for a, b in path.blocks(lo, hi):
+            path.cut(a, b)
+            m = b - a
+            kernel.run(path.step[:m], path.displacement[:m], path.step_velocity[:m],
+                       path.sample_velocity[a:b], None if load is None else load[a:b],
+                       0, m, a == 0, force[a:b])
         if progress is not None:
             progress(hi, n)
         if hi == n:
