@@ -1,0 +1,42 @@
+"""Measured surfaces: height maps, summits and summit radii (the user guide, measured surfaces).
+
+A profilometer, interferometer or AFM height map becomes the set of asperity
+summits that the Pol-Ind model's direct summation sums over, each with its
+own height and radius, and the Greenwood–Williamson surface equivalent to it::
+
+    from polind.topography import load_measured_surface, figure_png
+    surface = load_measured_surface("scan.x3p")            # SurfaceTopography reads it
+    surface.summit_heights, surface.summit_radii           # [m], [m]
+    surface.greenwood_williamson()                         # {asperity_density, ...}
+    surface.summary()                                      # polind topography --json
+
+- :mod:`~polind.topography.heightmap`: reading (SurfaceTopography's
+  formats with units converted to metres; ``.npy`` / ``.csv`` grids with a
+  pixel size); missing points stay missing;
+- :mod:`~polind.topography.summits`: levelling, the ISO 16610-61 Gaussian
+  low-pass, summits (strict 8-neighbour maxima), curvatures;
+- :mod:`~polind.topography.analysis`: :class:`MeasuredSurface`, the result;
+- :mod:`~polind.topography.figure`: the figure of ``polind topography --plot``.
+
+SurfaceTopography and matplotlib are imported only when needed.
+"""
+
+from polind.topography.analysis import MeasuredSurface, analyse, load_measured_surface
+from polind.topography.figure import figure_png, topography_figure
+from polind.topography.heightmap import HeightMap, read_height_map
+from polind.topography.summits import find_summits, level, low_pass, mean_plane, summit_curvatures
+
+__all__ = [
+    "HeightMap",
+    "MeasuredSurface",
+    "analyse",
+    "figure_png",
+    "find_summits",
+    "level",
+    "load_measured_surface",
+    "low_pass",
+    "mean_plane",
+    "read_height_map",
+    "summit_curvatures",
+    "topography_figure",
+]

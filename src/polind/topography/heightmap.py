@@ -1,0 +1,308 @@
+"""Measured height maps in, heights in metres out (the user guide, measured surfaces).
+
+A height map is a regular grid of heights ``h[i, j]`` at ``x = i dx``,
+``y = j dy`` (the first index runs along ``x``, as in SurfaceTopography's
+``heights()``), heights and pixel sizes in metres, missing points ``NaN``.
+Missing points stay missing: nothing here fills, interpolates or drops them.
+
+Sources:
+
+- every format SurfaceTopography reads (x3p, sur, plu, opd, datx, di, and
+  about 35 more), with the file's own pixel size and units, converted to
+  metres; SurfaceTopography is imported only when such a file is read;
+- a ``.npy`` array or a ``.csv`` grid (comma-separated, one row per ``i``,
+  no header; an empty field or ``nan`` is a missing point), heights in
+  metres, with the pixel size given by the caller.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+
+from polind.errors import InputError, describe
+from polind.validation import check_number
+
+__all__ = ["HeightMap", "read_height_map", "GRID_SUFFIXES"]
+
+#: File name endings read by polind itself (the pixel size must be given).
+GRID_SUFFIXES = (".npy", ".csv")
+
+_OWNER = "topography"
+
+
+@dataclass(frozen=True)
+class HeightMap:
+    """Heights on a regular grid, in metres; ``NaN`` marks a missing point.
+
+    Build one with :meth:`from_array` (checks and converts) or
+    :func:`read_height_map`; the constructor only stores.
+
+    Parameters
+    ----------
+    heights : numpy.ndarray
+        ``h[i, j]`` [m] at ``x = i dx``, ``y = j dy``, shape ``(nx, ny)``,
+        float64, ``NaN`` where the instrument gave no value.
+    pixel_size : tuple of float
+        ``(dx, dy)`` [m].
+    source : str
+        What the map came from (a file name), used in messages.
+    """
+
+    heights: np.ndarray
+    pixel_size: tuple[float, float]
+    source: str = "height map"
+
+    @classmethod
+    def from_array(cls, heights, pixel_size, source="height map") -> "HeightMap":
+        """A checked height map from an array of heights [m] and ``(dx, dy)`` [m].
+
+        A masked array's masked points and ``NaN`` become missing points.
+
+        Raises
+        ------
+        polind.InputError
+            If the array is not two-dimensional with at least 3 x 3 points,
+            holds an infinite value, has no valid point, or the pixel size
+            is not two positive finite numbers; the message names ``source``.
+
+        Examples
+        --------
+        >>> m = HeightMap.from_array([[0.0, 1e-9, 0.0]] * 3, (1e-6, 2e-6), "demo")
+        >>> m.grid, m.pixel_size, m.valid_points
+        ((3, 3), (1e-06, 2e-06), 9)
+        """
+        dx, dy = _pixel_size(pixel_size)
+        if isinstance(heights, np.ma.MaskedArray):
+            heights = np.ma.filled(heights.astype(np.float64), np.nan)
+        try:
+            array = np.array(heights, dtype=np.float64)
+        except (TypeError, ValueError):
+            raise InputError(f"{source}: the heights are not an array of numbers; expected a "
+                             f"two-dimensional grid of heights in metres.") from None
+        if array.ndim != 2:
+            raise InputError(f"{source}: the heights have {array.ndim} dimension(s) (shape "
+                             f"{array.shape}); expected a two-dimensional grid of heights.")
+        if min(array.shape) < 3:
+            raise InputError(f"{source}: the grid has {array.shape[0]} x {array.shape[1]} points; "
+                             f"expected at least 3 x 3 (a summit needs 8 neighbours).")
+        if np.isinf(array).any():
+            raise InputError(f"{source}: {int(np.isinf(array).sum())} height(s) are infinite; "
+                             f"expected finite heights, NaN for a missing point.")
+        valid = int(np.count_nonzero(~np.isnan(array)))
+        if valid == 0:
+            raise InputError(f"{source}: every one of the {array.size} points is missing; "
+                             f"expected a height map with valid points.")
+        return cls(array, (dx, dy), str(source))
+
+    @property
+    def grid(self) -> tuple[int, int]:
+        """``(nx, ny)``, the number of points along ``x`` and ``y``."""
+        return tuple(int(n) for n in self.heights.shape)
+
+    @property
+    def valid_points(self) -> int:
+        """Points that are not missing."""
+        return int(np.count_nonzero(~np.isnan(self.heights)))
+
+
+def _pixel_size(pixel_size) -> tuple[float, float]:
+    try:
+        values = list(pixel_size)
+    except TypeError:
+        values = None
+    if values is None or len(values) != 2:
+        raise InputError(f"The 'pixel_size' parameter of {_OWNER} must be two numbers "
+                         f"[dx, dy] in metres. Got {describe(pixel_size)} instead.")
+    return tuple(check_number(_OWNER, "pixel_size", value, "positive") for value in values)
+
+
+def read_height_map(path, pixel_size=None) -> HeightMap:
+    """Read a measured height map; heights and pixel sizes in metres.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A file SurfaceTopography reads (its format detected from its
+        content), or a ``.npy`` / ``.csv`` grid of heights in metres.
+    pixel_size : pair of float, optional
+        ``(dx, dy)`` [m]: required for a ``.npy`` / ``.csv`` grid and for a
+        file that gives no physical size; refused for a file that gives its
+        own.
+
+    Returns
+    -------
+    HeightMap
+        Missing points of the file (masked or ``NaN``) are ``NaN``.
+
+    Raises
+    ------
+    polind.InputError
+        One line naming the file and what was expected: the file is
+        missing or unreadable, is a line scan, gives no unit, a grid has no
+        pixel size, every point is missing, ...
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> grid = pathlib.Path(tempfile.mkdtemp()) / "map.csv"
+    >>> _ = grid.write_text("0,1e-9,0\\n1e-9,3e-9,nan\\n0,,0\\n")
+    >>> m = read_height_map(grid, pixel_size=(1e-6, 1e-6))
+    >>> m.grid, m.valid_points
+    ((3, 3), 7)
+    """
+    name = os.fspath(path)
+    if pixel_size is not None:  # checked before a long read
+        _pixel_size(pixel_size)
+    if not os.path.exists(name):
+        raise InputError(f"{name}: no such file; expected a height map.")
+    if os.path.isdir(name):
+        raise InputError(f"{name}: is a directory; expected a height map file.")
+    if name.lower().endswith(GRID_SUFFIXES):
+        if pixel_size is None:
+            raise InputError(f"{name}: a {os.path.splitext(name)[1]} grid holds no pixel size; "
+                             f"expected the pixel size [dx, dy] in metres to be given with it.")
+        heights = _read_npy(name) if name.lower().endswith(".npy") else _read_csv_grid(name)
+        return HeightMap.from_array(heights, pixel_size, name)
+    return _read_with_surface_topography(name, pixel_size)
+
+
+def _read_npy(name) -> np.ndarray:
+    try:
+        array = np.load(name, allow_pickle=False)
+    except (OSError, ValueError, EOFError) as error:
+        raise InputError(f"{name}: cannot be read as a NumPy .npy array ({_first_line(error)}); "
+                         f"expected a two-dimensional array of heights in metres.") from None
+    if not isinstance(array, np.ndarray) or not (np.issubdtype(array.dtype, np.floating)
+                                                 or np.issubdtype(array.dtype, np.integer)):
+        kind = getattr(array, "dtype", type(array).__name__)
+        raise InputError(f"{name}: holds {kind} values; expected real heights in metres.")
+    return array
+
+
+def _read_csv_grid(name) -> np.ndarray:
+    try:
+        with open(name, encoding="utf-8-sig") as handle:
+            text = handle.read()
+    except (OSError, UnicodeDecodeError) as error:
+        raise InputError(f"{name}: cannot be read ({_first_line(error)}); expected a CSV grid "
+                         f"of heights in metres.") from None
+    try:
+        # The fast path: a complete grid of numbers (NaN spelt 'nan').
+        grid = np.loadtxt(text.splitlines(), delimiter=",", dtype=np.float64, ndmin=2,
+                          comments="#")
+    except ValueError:
+        grid = _parse_csv_grid(name, text)
+    if grid.size == 0:
+        raise InputError(f"{name}: holds no heights; expected a CSV grid of heights in metres.")
+    return grid
+
+
+def _parse_csv_grid(name, text) -> np.ndarray:
+    """The careful path: empty fields are missing points; a bad cell is named."""
+    rows, width = [], None
+    for number, line in enumerate(text.splitlines(), start=1):
+        line = line.split("#", 1)[0].strip()
+        if not line:
+            continue
+        cells = line.split(",")
+        if width is None:
+            width = len(cells)
+        elif len(cells) != width:
+            raise InputError(f"{name}: line {number} has {len(cells)} values; expected {width} "
+                             f"like the first row (a rectangular grid; an empty field is a "
+                             f"missing point).")
+        row = []
+        for column, cell in enumerate(cells, start=1):
+            cell = cell.strip()
+            if cell == "" or cell.lower() == "nan":
+                row.append(math.nan)
+                continue
+            try:
+                value = float(cell)
+            except ValueError:
+                raise InputError(f"{name}: line {number}, column {column}: {describe(cell)} is not "
+                                 f"a number; expected a height in metres, or an empty field or "
+                                 f"'nan' for a missing point.") from None
+            row.append(value)
+        rows.append(row)
+    return np.array(rows, dtype=np.float64).reshape(len(rows), width or 0)
+
+
+def _first_line(error) -> str:
+    text = str(error).strip() or type(error).__name__
+    return text.splitlines()[0].strip()
+
+
+def _read_with_surface_topography(name, pixel_size) -> HeightMap:
+    try:
+        with warnings.catch_warnings():
+            # NuMPI (under SurfaceTopography) warns that it runs without MPI: that is intended.
+            warnings.filterwarnings("ignore", message="Could not import mpi4py",
+                                    category=ImportWarning)
+            import SurfaceTopography
+            from SurfaceTopography.Exceptions import CannotDetectFileFormat
+    except ImportError:  # pragma: no cover - a dependency of polind
+        raise InputError(f"{name}: reading this format needs the package SurfaceTopography, "
+                         f"which is not installed; expected it (pip install SurfaceTopography), "
+                         f"or a .npy/.csv grid.") from None
+    try:
+        reader = SurfaceTopography.open_topography(name)
+    except CannotDetectFileFormat:
+        raise InputError(f"{name}: SurfaceTopography recognises no height-map format in this "
+                         f"file; expected a height map in a format it reads (x3p, sur, plu, opd, "
+                         f"datx, di, ...) or a .npy/.csv grid with a pixel size.") from None
+    except MemoryError:
+        raise
+    except Exception as error:  # noqa: BLE001 - a reader's failure is a fault of the file
+        raise InputError(f"{name}: SurfaceTopography cannot read this file "
+                         f"({_first_line(error)}); expected a readable height map.") from None
+    try:
+        return _height_map_of(reader, name, pixel_size)
+    finally:
+        reader.close()
+
+
+def _height_map_of(reader, name, pixel_size) -> HeightMap:
+    """The default channel of an open SurfaceTopography reader, in metres."""
+    channel = reader.default_channel
+    if channel.dim != 2:
+        raise InputError(f"{name}: is a line scan ({channel.dim}-dimensional data); expected "
+                         f"a two-dimensional height map.")
+    if channel.unit is None:
+        raise InputError(f"{name}: the file gives no length unit, so its heights cannot be "
+                         f"converted to metres; expected a height map with units, or the "
+                         f"heights in metres saved as a .npy/.csv grid.")
+    options = {}
+    if channel.physical_sizes is None:
+        if pixel_size is None:
+            raise InputError(f"{name}: the file gives no physical size; expected the pixel "
+                             f"size [dx, dy] in metres to be given with it.")
+        from SurfaceTopography.Support.UnitConversion import get_unit_conversion_factor
+
+        dx, dy = _pixel_size(pixel_size)
+        nx, ny = channel.nb_grid_pts
+        metres_per_unit = get_unit_conversion_factor(channel.unit, "m")
+        options["physical_sizes"] = (nx * dx / metres_per_unit, ny * dy / metres_per_unit)
+    elif pixel_size is not None:
+        raise InputError(f"{name}: the file gives its own physical size "
+                         f"({_sizes_text(channel.physical_sizes, channel.unit)}); expected no "
+                         f"pixel size with it (that is only for .npy/.csv grids).")
+    try:
+        topography = reader.topography(**options).to_unit("m")
+        heights = topography.heights()
+        dx, dy = (float(size) for size in topography.pixel_size)
+    except MemoryError:
+        raise
+    except Exception as error:  # noqa: BLE001 - a reader's failure is a fault of the file
+        raise InputError(f"{name}: SurfaceTopography cannot read the heights of this file "
+                         f"({_first_line(error)}); expected a readable height map.") from None
+    return HeightMap.from_array(heights, (dx, dy), name)
+
+
+def _sizes_text(sizes, unit) -> str:
+    return " x ".join(f"{float(size):.6g}" for size in sizes) + f" {unit}"
