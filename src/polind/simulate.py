@@ -158,7 +158,7 @@ class _SteppedMotion:
     block once, so that a bad motion is refused before anything runs.
     """
 
-    def __init__(self, t, x=None, v=None, state=None, block=None):
+    def __init__(self, t, x=None, v=None, state=None, block=None, validate=True):
         if (x is None) == (v is None):
             raise InputError("Give exactly one of 'x' (displacement) and 'v' (velocity). Got "
                              + ("both." if x is not None else "neither."))
@@ -171,12 +171,18 @@ class _SteppedMotion:
             self.x, self.sample_velocity = np.empty(n), self.motion
         else:
             self.x, self.sample_velocity = self.motion, np.empty(n)
+        self._start = (0.0 if state is None else state.position,
+                       0.0 if state is None else state.velocity, state is not None)
+        if validate:         # else a fused run (run_motion) checks the motion as it goes
+            self.cut_in_blocks(block)
+
+    def cut_in_blocks(self, block=None):
+        """Allocate the step arrays of one block and check the whole motion by cutting it."""
+        n = self.t.shape[0]
         self.block = n if block is None else min(block, n)
         self.step = np.empty(self.block)
         self.displacement = np.empty(self.block)
         self.step_velocity = np.empty(self.block)
-        self._start = (0.0 if state is None else state.position,
-                       0.0 if state is None else state.velocity, state is not None)
         self._check()
 
     def blocks(self, lo, hi):
@@ -217,10 +223,23 @@ class _SteppedMotion:
             if code == OVERFLOW and overflow is None:
                 overflow = index
         if overflow is not None:
-            what = "step velocities" if self.name == "x" else "integrated displacements"
-            raise InputError(f"The '{self.name}' samples overflow: their {what} are not finite "
-                             f"from index {overflow} on. Use SI units (m, m/s, s) of a physical "
-                             f"size.")
+            self.refuse(OVERFLOW, overflow)
+
+    def refuse(self, code, index):
+        """The InputError of a bad motion found at ``index`` (:func:`cut_path`'s codes).
+
+        A non-finite sample later than an overflow is named first, as one
+        pass that checks every sample before the steps would.
+        """
+        from polind.kernels.contract import NOT_FINITE
+
+        bad = np.flatnonzero(~np.isfinite(self.motion))
+        if code == NOT_FINITE or bad.size:
+            raise _not_finite(self.name, self.motion, bad[0] if bad.size else index)
+        what = "step velocities" if self.name == "x" else "integrated displacements"
+        raise InputError(f"The '{self.name}' samples overflow: their {what} are not finite "
+                         f"from index {index} on. Use SI units (m, m/s, s) of a physical "
+                         f"size.")
 
 
 def make_path(t, x=None, v=None, state=None) -> Path:
@@ -293,7 +312,7 @@ def simulate(model: FrictionModel, t, x=None, v=None, *, normal_load=None,
         model.check_state(state)
     # Memory: t, x, v and the forces (32 bytes a sample), the load given, and step
     # arrays for one block of samples.
-    path = _SteppedMotion(t, x, v, state, block=_BLOCK)
+    path = _SteppedMotion(t, x, v, state, validate=False)
     if state is not None:
         given = path.motion
         _check_continuation(state, path.t, given if x is not None else None,
@@ -320,24 +339,40 @@ def simulate(model: FrictionModel, t, x=None, v=None, *, normal_load=None,
 
 
 def _advance_in_chunks(model, path, state, load, progress):
-    """Run the model's step over the path, reporting progress every CHUNK samples; return the forces.
+    """Run the model's step over the motion, reporting progress every CHUNK samples; return the forces.
 
-    The kernel runs once per block of the path (a block starts at the
-    previous block's last sample, and the kernel's state carries over), so
-    neither the blocks nor the chunks ever change a result.
+    A model with nothing around its contact runs its fused loop
+    (:func:`polind.kernels.contract.run_motion`: the steps are cut from the
+    samples as it goes, no step arrays); a mounted one runs from step arrays
+    cut one block at a time.  A chunk or a block starts at the previous one's
+    last sample and the kernel's state carries over, so neither ever changes
+    a result.
     """
+    from polind.kernels.contract import VALID
+
     kernel = model.step_kernel(state, load)
     n = path.t.shape[0]
     force = np.empty(n)
+    fused = kernel.mount is None
+    if not fused:
+        path.cut_in_blocks(_BLOCK)
+    start_position, start_velocity, continuing = path._start
     lo = 0
     while True:
         hi = min(lo + CHUNK, n)
-        for a, b in path.blocks(lo, hi):
-            path.cut(a, b)
-            m = b - a
-            kernel.run(path.step[:m], path.displacement[:m], path.step_velocity[:m],
-                       path.sample_velocity[a:b], None if load is None else load[a:b],
-                       0, m, a == 0, force[a:b])
+        if fused:
+            code, index = kernel.run_motion(path.t, path.motion, path.by_velocity,
+                                            start_position, start_velocity, continuing, path.x,
+                                            path.sample_velocity, load, lo, hi, lo == 0, force)
+            if code != VALID:
+                path.refuse(code, index)
+        else:
+            for a, b in path.blocks(lo, hi):
+                path.cut(a, b)
+                m = b - a
+                kernel.run(path.step[:m], path.displacement[:m], path.step_velocity[:m],
+                           path.sample_velocity[a:b], None if load is None else load[a:b],
+                           0, m, a == 0, force[a:b])
         if progress is not None:
             progress(hi, n)
         if hi == n:

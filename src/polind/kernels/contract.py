@@ -69,6 +69,99 @@ def run_steps(step, force, scalars, table, state, step_length, displacement, ste
                             sample_load(loads, constant_load, k))
 
 
+@jit(fastmath=False)
+def motion_step(by_velocity, t0, t1, m0, m1, x0):
+    """``(h, dx, w, x1, code)`` of the step from sample 0 to 1 of a prescribed motion (:func:`cut_path`).
+
+    ``m`` are positions (``by_velocity`` false: ``w = (m1 - m0) / h``) or
+    velocities (``w = (m0 + m1) / 2``, ``dx = w h``, ``x1 = x0 + dx``).
+    ``code`` is :data:`NOT_FINITE` for a non-finite ``m1``, :data:`OVERFLOW`
+    for a non-finite step velocity (positions) or ``x1`` (velocities), else
+    :data:`VALID`.  Compiled without fast-math, on its own, so that the
+    arithmetic is :func:`cut_path`'s (and :class:`polind.Stepper`'s) bit for
+    bit in every loop that calls it, and so that the finiteness tests stand:
+    with reassociation allowed, LLVM proves ``isfinite`` of a computed value
+    true.
+    """
+    h = t1 - t0
+    if not math.isfinite(m1):
+        return h, 0.0, 0.0, x0, NOT_FINITE
+    if by_velocity:
+        w = 0.5 * (m0 + m1)
+        dx = w * h
+        x1 = x0 + dx
+        return h, dx, w, x1, VALID if math.isfinite(x1) else OVERFLOW
+    dx = m1 - m0
+    w = dx / h
+    return h, dx, w, m1, VALID if math.isfinite(w) else OVERFLOW
+
+
+@jit(inline="always")
+def run_motion(step, force, scalars, table, state, t, motion, by_velocity, start_position,
+               start_velocity, continuing, position, velocity, loads, constant_load, lo, hi,
+               first, out_force):
+    """:func:`cut_path` and :func:`run_steps` in one pass over the samples ``lo .. hi - 1``.
+
+    The loop of :func:`polind.simulate`: it reads the sample times ``t`` and
+    the ``motion`` (positions, or velocities with ``by_velocity``) and fills
+    the other of ``position``/``velocity`` and ``out_force``, with no step
+    arrays in between.  ``start_position``, ``start_velocity`` and
+    ``continuing`` are :func:`cut_path`'s, used at sample 0.  Returns
+    ``(code, index)`` as :func:`cut_path` does for the first bad sample it
+    meets (a non-finite motion sample, or a non-finite step velocity or
+    position), having computed the samples before it; ``t`` must have been
+    checked (:func:`check_times`).
+    """
+    if first:
+        if by_velocity:
+            if lo == 0:
+                position[0] = start_position
+            code = motion_step(True, 0.0, 0.0, 0.0, motion[lo], 0.0)[4]
+            if code == NOT_FINITE:
+                return NOT_FINITE, lo
+            sample_velocity = motion[lo]
+        else:
+            code = motion_step(False, 0.0, 1.0, 0.0, motion[lo], 0.0)[4]
+            if code == NOT_FINITE:
+                return NOT_FINITE, lo
+            if lo == 0 and continuing:
+                sample_velocity = start_velocity
+            elif lo + 1 < hi:
+                h, dx, sample_velocity, x1, code = motion_step(False, t[lo], t[lo + 1],
+                                                               motion[lo], motion[lo + 1], 0.0)
+                if code != VALID:
+                    return code, lo + 1
+            else:
+                sample_velocity = start_velocity
+            velocity[lo] = sample_velocity
+        out_force[lo] = force(scalars, table, state, sample_velocity,
+                              sample_load(loads, constant_load, lo))
+    for k in range(lo + 1, hi):
+        h, dx, w, x1, code = motion_step(by_velocity, t[k - 1], t[k], motion[k - 1], motion[k],
+                                         position[k - 1])
+        if code != VALID:
+            return code, k
+        if by_velocity:
+            position[k] = x1
+            sample_velocity = motion[k]
+        else:
+            velocity[k] = w
+            sample_velocity = w
+        out_force[k] = step(scalars, table, state, h, dx, w, sample_velocity,
+                            sample_load(loads, constant_load, k))
+    return VALID, -1
+
+
+@jit(cache=False)
+def run_motion_any(step, force, scalars, table, state, t, motion, by_velocity, start_position,
+                   start_velocity, continuing, position, velocity, loads, constant_load, lo, hi,
+                   first, out_force):
+    """:func:`run_motion` for any model's functions (passed as arguments, not inlined)."""
+    return run_motion(step, force, scalars, table, state, t, motion, by_velocity,
+                      start_position, start_velocity, continuing, position, velocity, loads,
+                      constant_load, lo, hi, first, out_force)
+
+
 @jit(cache=False)
 def run_steps_any(step, force, scalars, table, state, step_length, displacement, step_velocity,
                   sample_velocity, loads, constant_load, lo, hi, first, out_force):

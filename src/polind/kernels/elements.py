@@ -31,7 +31,7 @@ import math
 import numpy as np
 
 from polind.kernels import jit
-from polind.kernels.contract import run_steps
+from polind.kernels.contract import run_motion, run_steps
 from polind.kernels.dynamics import advance_body_template, integrate_system_template
 from polind.kernels.fastexp import decay_exp
 from polind.kernels.stribeck import sign, stribeck_curve
@@ -217,6 +217,16 @@ def maxwell_slip_path(scalars, table, state, step, displacement, step_velocity,
               step_velocity, sample_velocity, loads, constant_load, lo, hi, first, out_force)
 
 
+@jit
+def maxwell_slip_motion(scalars, table, state, t, motion, by_velocity, start_position,
+                        start_velocity, continuing, position, velocity, loads, constant_load, lo,
+                        hi, first, out_force):
+    """:func:`polind.kernels.contract.run_motion` specialised to Maxwell-slip."""
+    return run_motion(maxwell_slip_step, maxwell_slip_force, scalars, table, state, t, motion,
+                      by_velocity, start_position, start_velocity, continuing, position,
+                      velocity, loads, constant_load, lo, hi, first, out_force)
+
+
 @jit(inline="always")
 def gms_step_scaled(scalars, table, element_force, slip_direction, step, displacement,
                     step_velocity, sample_velocity, coulomb_force, static_force):
@@ -263,6 +273,15 @@ def gms_path(scalars, table, state, step, displacement, step_velocity, sample_ve
     """:func:`polind.kernels.contract.run_steps` specialised to GMS."""
     run_steps(gms_step, gms_force, scalars, table, state, step, displacement, step_velocity,
               sample_velocity, loads, constant_load, lo, hi, first, out_force)
+
+
+@jit
+def gms_motion(scalars, table, state, t, motion, by_velocity, start_position, start_velocity,
+               continuing, position, velocity, loads, constant_load, lo, hi, first, out_force):
+    """:func:`polind.kernels.contract.run_motion` specialised to GMS."""
+    return run_motion(gms_step, gms_force, scalars, table, state, t, motion,
+                      by_velocity, start_position, start_velocity, continuing, position,
+                      velocity, loads, constant_load, lo, hi, first, out_force)
 
 
 @jit

@@ -27,7 +27,7 @@ from __future__ import annotations
 import math
 
 from polind.kernels import jit
-from polind.kernels.contract import run_steps
+from polind.kernels.contract import run_motion, run_steps
 from polind.kernels.dynamics import advance_body_template, integrate_system_template
 from polind.kernels.elements import (ELEMENT_CAPACITY, ELEMENT_INVERSE, ELEMENT_STIFFNESS,
                                      element_properties, element_sum, gms_step_scaled,
@@ -156,6 +156,15 @@ def pol_ind_path(scalars, table, state, step, displacement, step_velocity, sampl
     """:func:`polind.kernels.contract.run_steps` specialised to Pol-Ind."""
     run_steps(pol_ind_step, pol_ind_force, scalars, table, state, step, displacement,
               step_velocity, sample_velocity, loads, constant_load, lo, hi, first, out_force)
+
+
+@jit
+def pol_ind_motion(scalars, table, state, t, motion, by_velocity, start_position, start_velocity,
+                   continuing, position, velocity, loads, constant_load, lo, hi, first, out_force):
+    """:func:`polind.kernels.contract.run_motion` specialised to Pol-Ind."""
+    return run_motion(pol_ind_step, pol_ind_force, scalars, table, state, t, motion,
+                      by_velocity, start_position, start_velocity, continuing, position,
+                      velocity, loads, constant_load, lo, hi, first, out_force)
 
 
 @jit

@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 from polind.kernels import jit
-from polind.kernels.contract import run_steps
+from polind.kernels.contract import run_motion, run_steps
 from polind.kernels.dynamics import advance_body_template, integrate_system_template
 from polind.kernels.elements import (element_sum, elastic_stiffness, maxwell_slip_elements,
                                      maxwell_slip_trial)
@@ -85,6 +85,15 @@ def dahl_path(scalars, table, state, step, displacement, step_velocity, sample_v
               sample_velocity, loads, constant_load, lo, hi, first, out_force)
 
 
+@jit
+def dahl_motion(scalars, table, state, t, motion, by_velocity, start_position, start_velocity,
+                continuing, position, velocity, loads, constant_load, lo, hi, first, out_force):
+    """:func:`polind.kernels.contract.run_motion` specialised to Dahl."""
+    return run_motion(dahl_step, dahl_force, scalars, table, state, t, motion,
+                      by_velocity, start_position, start_velocity, continuing, position,
+                      velocity, loads, constant_load, lo, hi, first, out_force)
+
+
 # --- LuGre: scalars below, state [z] ------------------------------------------------------
 
 LUGRE_VISCOUS = 0      # sigma2 [N s/m]
@@ -149,6 +158,15 @@ def lugre_path(scalars, table, state, step, displacement, step_velocity, sample_
     """:func:`polind.kernels.contract.run_steps` specialised to LuGre."""
     run_steps(lugre_step, lugre_force, scalars, table, state, step, displacement, step_velocity,
               sample_velocity, loads, constant_load, lo, hi, first, out_force)
+
+
+@jit
+def lugre_motion(scalars, table, state, t, motion, by_velocity, start_position, start_velocity,
+                 continuing, position, velocity, loads, constant_load, lo, hi, first, out_force):
+    """:func:`polind.kernels.contract.run_motion` specialised to LuGre."""
+    return run_motion(lugre_step, lugre_force, scalars, table, state, t, motion,
+                      by_velocity, start_position, start_velocity, continuing, position,
+                      velocity, loads, constant_load, lo, hi, first, out_force)
 
 
 @jit(inline="always")
@@ -259,6 +277,15 @@ def leuven_path(scalars, table, state, step, displacement, step_velocity, sample
     """:func:`polind.kernels.contract.run_steps` specialised to Leuven."""
     run_steps(leuven_step, leuven_force, scalars, table, state, step, displacement,
               step_velocity, sample_velocity, loads, constant_load, lo, hi, first, out_force)
+
+
+@jit
+def leuven_motion(scalars, table, state, t, motion, by_velocity, start_position, start_velocity,
+                  continuing, position, velocity, loads, constant_load, lo, hi, first, out_force):
+    """:func:`polind.kernels.contract.run_motion` specialised to Leuven."""
+    return run_motion(leuven_step, leuven_force, scalars, table, state, t, motion,
+                      by_velocity, start_position, start_velocity, continuing, position,
+                      velocity, loads, constant_load, lo, hi, first, out_force)
 
 
 @jit

@@ -9,7 +9,7 @@ the curve with ``Fs = Fc``, for which ``g`` is constant).
 from __future__ import annotations
 
 from polind.kernels import jit
-from polind.kernels.contract import run_steps
+from polind.kernels.contract import run_motion, run_steps
 from polind.kernels.dynamics import advance_body_template, integrate_system_template
 from polind.kernels.stribeck import sign, stribeck_curve
 
@@ -51,6 +51,16 @@ def memoryless_path(scalars, table, state, step, displacement, step_velocity, sa
     """:func:`polind.kernels.contract.run_steps` specialised to the memoryless step."""
     run_steps(memoryless_step, memoryless_force, scalars, table, state, step, displacement,
               step_velocity, sample_velocity, loads, constant_load, lo, hi, first, out_force)
+
+
+@jit
+def memoryless_motion(scalars, table, state, t, motion, by_velocity, start_position,
+                      start_velocity, continuing, position, velocity, loads, constant_load, lo,
+                      hi, first, out_force):
+    """:func:`polind.kernels.contract.run_motion` specialised to the memoryless models."""
+    return run_motion(memoryless_step, memoryless_force, scalars, table, state, t, motion,
+                      by_velocity, start_position, start_velocity, continuing, position,
+                      velocity, loads, constant_load, lo, hi, first, out_force)
 
 
 @jit

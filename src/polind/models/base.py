@@ -203,8 +203,10 @@ class StepFunctions:
     templates with the model's functions as globals, each taking the
     template's arguments after its first two: ``path``
     (``polind.kernels.contract.run_steps_any``, with ``step`` inlined),
-    ``integrate`` (``polind.kernels.dynamics.integrate_system_template``) and
-    ``body`` (``polind.kernels.dynamics.advance_body_template``).  numba can keep those in its
+    ``integrate`` (``polind.kernels.dynamics.integrate_system_template``),
+    ``body`` (``polind.kernels.dynamics.advance_body_template``) and
+    ``motion`` (``polind.kernels.contract.run_motion``, the loop of
+    :func:`polind.simulate`).  numba can keep those in its
     on-disk cache, which it cannot do for a template given functions as
     arguments; without them the generic templates run the model, compiled
     once per process.
@@ -216,6 +218,7 @@ class StepFunctions:
     path: object = None
     integrate: object = None
     body: object = None
+    motion: object = None
 
 
 @dataclass
@@ -267,6 +270,7 @@ class StepKernel:
     force_scale: float
     rest_capacity: float | None
     mount: np.ndarray | None = None
+    motion: object = None
 
     def __post_init__(self):
         # A trial's state and, behind a series spring, the spring's own solve.
@@ -305,6 +309,22 @@ class StepKernel:
             run_steps_any(self.step, self.force, self.scalars, self.table, self.state, step,
                           displacement, step_velocity, sample_velocity, loads,
                           self.normal_load, lo, hi, first, out_force)
+
+    def run_motion(self, t, motion, by_velocity, start_position, start_velocity, continuing,
+                   position, velocity, loads, lo, hi, first, out_force):
+        """``polind.kernels.contract.run_motion`` with this model's functions: ``(code, index)``.
+
+        Not for a mounted model (a series spring or a load scaling), which
+        runs from step arrays (:meth:`run`).
+        """
+        loads = _NO_LOADS if loads is None else loads
+        arguments = (self.scalars, self.table, self.state, t, motion, by_velocity,
+                     start_position, start_velocity, continuing, position, velocity, loads,
+                     self.normal_load, lo, hi, first, out_force)
+        if self.motion is not None:
+            return self.motion(*arguments)
+        from polind.kernels.contract import run_motion_any
+        return run_motion_any(self.step, self.force, *arguments)
 
     def integrate_system(self, *args):
         """``polind.kernels.dynamics.integrate_system_template`` with this model's functions.
@@ -607,6 +627,7 @@ class FrictionModel:
         return StepKernel(
             step=functions.step, force=functions.force, tangent=functions.tangent,
             path=functions.path, integrate=functions.integrate, body=functions.body,
+            motion=functions.motion,
             scalars=np.ascontiguousarray(scalars, dtype=np.float64),
             table=np.ascontiguousarray(np.atleast_2d(table), dtype=np.float64),
             state=np.ascontiguousarray(self.flat_state(state)),

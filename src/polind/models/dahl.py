@@ -50,7 +50,8 @@ class Dahl(FrictionModel):
         from polind.kernels import single
         return StepFunctions(single.dahl_step, single.dahl_force, single.dahl_tangent,
                              single.dahl_path,
-                             single.dahl_integrate, single.dahl_body)
+                             single.dahl_integrate, single.dahl_body,
+                             motion=single.dahl_motion)
 
     def kernel_arrays(self, state):
         p = self._params

@@ -61,7 +61,8 @@ class GMS(FrictionModel):
         from polind.kernels import elements
         return StepFunctions(elements.gms_step, elements.gms_force, elements.gms_tangent,
                              elements.gms_path,
-                             elements.gms_integrate, elements.gms_body)
+                             elements.gms_integrate, elements.gms_body,
+                             motion=elements.gms_motion)
 
     def kernel_arrays(self, state):
         return gms_arrays(self._params)

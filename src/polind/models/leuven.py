@@ -98,7 +98,8 @@ class Leuven(FrictionModel):
         from polind.kernels import single
         return StepFunctions(single.leuven_step, single.leuven_force, single.leuven_tangent,
                              single.leuven_path,
-                             single.leuven_integrate, single.leuven_body)
+                             single.leuven_integrate, single.leuven_body,
+                             motion=single.leuven_motion)
 
     def kernel_arrays(self, state):
         from polind.kernels.stribeck import SHAPE_CODES

@@ -65,7 +65,8 @@ class LuGre(FrictionModel):
         from polind.kernels import single
         return StepFunctions(single.lugre_step, single.lugre_force, single.lugre_tangent,
                              single.lugre_path,
-                             single.lugre_integrate, single.lugre_body)
+                             single.lugre_integrate, single.lugre_body,
+                             motion=single.lugre_motion)
 
     def kernel_arrays(self, state):
         from polind.kernels.stribeck import SHAPE_CODES

@@ -72,7 +72,8 @@ class MaxwellSlip(FrictionModel):
         from polind.kernels import elements
         return StepFunctions(elements.maxwell_slip_step, elements.maxwell_slip_force,
                              elements.maxwell_slip_tangent, elements.maxwell_slip_path,
-                             elements.maxwell_slip_integrate, elements.maxwell_slip_body)
+                             elements.maxwell_slip_integrate, elements.maxwell_slip_body,
+                             motion=elements.maxwell_slip_motion)
 
     def kernel_arrays(self, state):
         table = np.vstack([self._array("stiffness"), self._array("breakaway_force")])

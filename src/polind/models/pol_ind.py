@@ -296,7 +296,8 @@ class PolInd(FrictionModel):
         from polind.kernels import pol_ind
         return StepFunctions(pol_ind.pol_ind_step, pol_ind.pol_ind_force,
                              pol_ind.pol_ind_tangent, pol_ind.pol_ind_path,
-                             pol_ind.pol_ind_integrate, pol_ind.pol_ind_body)
+                             pol_ind.pol_ind_integrate, pol_ind.pol_ind_body,
+                             motion=pol_ind.pol_ind_motion)
 
     def kernel_arrays(self, state):
         from polind.kernels import pol_ind as slots

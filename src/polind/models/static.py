@@ -26,7 +26,8 @@ def _memoryless_functions(self):
     from polind.kernels import static
     return StepFunctions(static.memoryless_step, static.memoryless_force,
                          static.memoryless_tangent, static.memoryless_path,
-                             static.memoryless_integrate, static.memoryless_body)
+                             static.memoryless_integrate, static.memoryless_body,
+                         motion=static.memoryless_motion)
 
 
 def _memoryless_scalars(coulomb, static, velocity, exponent, shape, viscous):
