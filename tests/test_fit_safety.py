@@ -27,7 +27,11 @@ from polind.errors import InputError
 from polind.identification import _fittable_keys, default_bounds, identify
 from polind.models.pol_ind import default_table
 
-RECORD = Path("/work/shared/data/tribometer_reciprocating.tsv")
+# The shared data folder beside the project (CI), else the development machine's.
+RECORD = next((path for path in (
+    Path(__file__).resolve().parents[2] / "shared" / "data" / "tribometer_reciprocating.tsv",
+    Path("/work/shared/data/tribometer_reciprocating.tsv")) if path.exists()),
+    Path("/work/shared/data/tribometer_reciprocating.tsv"))
 
 
 def model(table: dict):
