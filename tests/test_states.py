@@ -136,3 +136,17 @@ def test_a_model_error_found_late_is_blamed_on_the_model_file(tmp_path, capsys):
                  str(tmp_path / "out.csv")]) == 2
     err = capsys.readouterr().err
     assert f"{model}: " in err and "static_coefficient" in err
+
+
+@pytest.mark.parametrize("options, key", [
+    ({"max_evaluations": 0}, "max_evaluations"), ({"max_evaluations": 2.5}, "max_evaluations"),
+    ({"tolerance": -1.0}, "tolerance"), ({"tolerance": 1e-30}, "tolerance"),
+    ({"diff_step": 0}, "diff_step"), ({"diff_step": 2.0}, "diff_step"),
+])
+def test_identify_refuses_bad_solver_options_with_input_errors(options, key):
+    model = lib(REPRESENTATIVE["dahl"])
+    t = np.linspace(0.0, 1.0, 101)
+    x = 1e-4 * np.sin(6 * t)
+    data = {"t": t, "x": x, "F": polind.simulate(model, t, x=x).force}
+    with pytest.raises(polind.InputError, match=key):
+        polind.identify(model, data, **options)

@@ -80,7 +80,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from polind.errors import InputError, describe
+from polind.errors import InputError
+from polind.validation import check_number, describe
 from polind.models import FrictionModel, model_from_dict
 from polind.models.params import Param, Table
 from polind.simulate import as_samples, make_path, simulate
@@ -1058,6 +1059,16 @@ def identify(model, data, *, free=None, bounds=None, holdout=None, max_evaluatio
     """
     from scipy.optimize import least_squares
 
+    max_evaluations = None if max_evaluations is None else check_number(
+        "identify", "max_evaluations", max_evaluations, "positive", integer=True)
+    tolerance = check_number("identify", "tolerance", tolerance, "positive")
+    if tolerance < 1e-15:
+        raise InputError(f"The 'tolerance' parameter of identify must be at least 1e-15 (above "
+                         f"machine precision). Got {tolerance!r} instead.")
+    diff_step = check_number("identify", "diff_step", diff_step, "positive")
+    if diff_step >= 1.0:
+        raise InputError(f"The 'diff_step' parameter of identify must be below 1 (a relative "
+                         f"step). Got {diff_step!r} instead.")
     start, keys, given_bounds = parse_fit(model, free=free, bounds=bounds)
     notes = []
     record = _measurement(data, model=start, notes=notes)
