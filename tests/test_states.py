@@ -150,3 +150,24 @@ def test_identify_refuses_bad_solver_options_with_input_errors(options, key):
     data = {"t": t, "x": x, "F": polind.simulate(model, t, x=x).force}
     with pytest.raises(polind.InputError, match=key):
         polind.identify(model, data, **options)
+
+
+def test_max_memory_refuses_a_system_run_with_exit_2(tmp_path, capsys):
+    from polind.cli import _run
+
+    model = tmp_path / "model.toml"
+    model.write_text('[model]\ntype = "coulomb"\ncoulomb_force = 1.0\n')
+    system = tmp_path / "system.toml"
+    system.write_text("[system]\nmass = 1.0\nduration = 10.0\ntime_step = 1e-5\n"
+                      "[system.force]\namplitude = 0.5\nfrequency = 1.0\n")
+    out = tmp_path / "out.csv"
+    assert _run(["--max-memory", "1M", "dynamics", str(model), "--system", str(system),
+                 "--output", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "needs about 40 MB" in err and "--max-memory" in err and not out.exists()
+    assert _run(["--max-memory", "lots", "dynamics", str(model), "--system", str(system),
+                 "--output", str(out)]) == 2
+    assert _run(["--max-memory", "100M", "dynamics", str(model), "--system", str(system),
+                 "--output", str(out)]) == 0
+    from polind import resources
+    assert resources._LIMIT is None                # the option ends with its command

@@ -151,15 +151,38 @@ def write_samples(path, columns):
 
 # --- the commands ---------------------------------------------------------------------------
 
+_SIZE_UNITS = {"": 1.0, "K": 1e3, "M": 1e6, "G": 1e9, "T": 1e12}
+
+
+def _memory_size(text):
+    """``--max-memory``: bytes, or a number with K, M, G or T (powers of 1000)."""
+    value = str(text).strip().upper().removesuffix("B")
+    unit = value[-1:] if value[-1:] in _SIZE_UNITS else ""
+    try:
+        number = float(value[:len(value) - len(unit)])
+    except ValueError:
+        number = float("nan")
+    if not (number > 0.0 and number < float("inf")):
+        raise InputError(f"The '--max-memory' option must be a positive size such as 4G or "
+                         f"500M. Got {text!r} instead.")
+    return number * _SIZE_UNITS[unit]
+
+
 @click.group(name=_PROGRAM, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(__version__, "--version", prog_name=_PROGRAM,
                       message="%(prog)s %(version)s")
-def cli():
+@click.option("--max-memory", metavar="SIZE", default=None,
+              help="Refuse a run whose arrays would need more than SIZE (e.g. 4G, 500M); "
+                   "default: half of the memory available.")
+def cli(max_memory):
     """polind: dynamic friction modelling, the Pol-Ind model and its classical peers.
 
     Exit status: 0 success, 2 bad input (one line on standard error), 1 an
     internal error (set POLIND_DEBUG=1 for the traceback).
     """
+    from polind.resources import set_memory_limit
+
+    set_memory_limit(None if max_memory is None else _memory_size(max_memory))
 
 
 @cli.command()
@@ -598,6 +621,10 @@ def _run(argv) -> int:
     except Exception as exc:  # noqa: BLE001 - the last resort: exit 1 with one line
         _report("internal error", f"{type(exc).__name__}: {exc}")
         return 1
+    finally:
+        from polind.resources import set_memory_limit
+
+        set_memory_limit(None)      # a --max-memory ends with its command
     # standalone_mode=False returns the exit code of --help/--version, else
     # the command's return value (None): commands do not choose statuses.
     return status if isinstance(status, int) else 0
