@@ -31,7 +31,7 @@ PACKAGE = "polind"
 LAYERS = (
     ("cli",),
     ("demo", "report", "bench"),
-    ("phenomena",),
+    ("phenomena", "sweep"),
     ("identification", "comparison"),
     ("control", "stepper", "dynamics", "simulate"),
     ("models",),

@@ -24,7 +24,7 @@ __all__ = ["InputError", "MODEL_TYPES", "FrictionModel", "State", "SimulationRes
            "StepFunctions", "StepKernel", "register_model", "Param", "Table", "Stepper", "Body",
            "load_model", "model_from_dict", "simulate", "System", "SystemResult",
            "load_system", "simulate_system", "identify", "FitResult",
-           "identify_maxwell_slip", "identify_gms", "identify_stribeck", "compare"]
+           "identify_maxwell_slip", "identify_gms", "identify_stribeck", "compare", "sweep"]
 __version__ = "0.1.0"
 
 # The one-degree-of-freedom and identification APIs load numba kernels and
@@ -37,14 +37,18 @@ _LAZY = {"identify": "polind.identification", "FitResult": "polind.identificatio
          "compare": "polind.comparison",
          "Stepper": "polind.stepper", "Body": "polind.stepper",
          "System": "polind.dynamics", "SystemResult": "polind.dynamics",
-         "load_system": "polind.dynamics", "simulate_system": "polind.dynamics"}
+         "load_system": "polind.dynamics", "simulate_system": "polind.dynamics",
+         "sweep": "polind.sweep"}
 
 
 def __getattr__(name):
     if name in _LAZY:
         import importlib
 
-        value = getattr(importlib.import_module(_LAZY[name]), name)
+        module = importlib.import_module(_LAZY[name])
+        # polind.sweep is its module, made callable (polind.sweep(...) runs a sweep), so that
+        # it is the same object whether `import polind.sweep` or this came first.
+        value = module if module.__name__ == f"{__name__}.{name}" else getattr(module, name)
         globals()[name] = value
         return value
     raise AttributeError(f"module 'polind' has no attribute {name!r}")

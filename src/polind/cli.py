@@ -576,6 +576,67 @@ def compare(model_paths, data_path, holdout, output_path, plot_path):
         click.echo(f"wrote {' and '.join(files)}", err=streamed)
 
 
+@cli.command()
+@click.argument("sweep_path", metavar="SWEEP.toml", type=_file_path())
+@click.option("--output", "-o", "output_path", required=True, type=_file_path(),
+              metavar="RESULTS", help="The results table, .parquet or .csv. Rows are added as "
+                                      "runs finish; the same command again computes only the "
+                                      "runs that are missing.")
+@click.option("--workers", "-w", default=None, type=click.IntRange(min=1), metavar="N",
+              help="Local worker threads (default: the number of cores).")
+@click.option("--scheduler", default=None, metavar="ADDRESS",
+              help="Run on an existing Dask distributed cluster (tcp://HOST:PORT) instead of "
+                   "local threads; its workers need polind installed.")
+@click.option("--yes", "-y", is_flag=True,
+              help="Run a sweep of more than 10,000 runs (refused without it).")
+@click.option("--plot", "plot_path", default=None, type=_file_path(), metavar="PNG",
+              help="Also draw each metric against the swept parameters: a line over one, a "
+                   "map over the first two.")
+def sweep(sweep_path, output_path, workers, scheduler, yes, plot_path):
+    """Many runs of one model over a grid or a sample of its parameters.
+
+    SWEEP.toml names the model file, a [system] file (or a motion file), the
+    metrics, the design (grid, latin-hypercube or random) and
+    [sweep.parameters]: dotted keys into [model] and [system], each with
+    values or a range (README, "Sweeps").  RESULTS has one row per run: run,
+    the parameter values, the metrics, status ("ok" or the run's error) and
+    seconds.  A failed run is a row and the sweep goes on; Ctrl-C stops it
+    with every finished row kept.
+    """
+    from polind.sweep import MAX_RUNS, SweepInterrupted, load_sweep, plot_results
+    from polind.sweep import sweep as run_sweep
+
+    if workers is not None and scheduler is not None:
+        raise InputError("--workers and --scheduler: give one (local threads or a Dask "
+                         "cluster), not both.")
+    with blame(sweep_path):
+        plan = load_sweep(sweep_path)
+    refuse_overwriting_inputs(plan.inputs, {"--output": output_path, "--plot": plot_path})
+    with progress(description="sweep", unit=" runs") as bar:
+        def advance(done, total, failed):
+            if bar.total != total:
+                bar.reset(total=total)
+            bar.set_postfix_str(f"{failed} failed", refresh=False)
+            bar.update(done - bar.n)
+
+        try:
+            summary = run_sweep(plan, output_path, workers=workers, scheduler=scheduler,
+                                max_runs=None if yes else MAX_RUNS, progress=advance)
+        except SweepInterrupted as stopped:
+            bar.close()
+            click.echo(f"{output_path}: stopped with {stopped.done} of {stopped.runs} runs "
+                       f"written; run the same command again to compute the rest", err=True)
+            raise
+    if plot_path is not None:
+        plot_results(summary.table, plan, plot_path)
+    lost = f", {summary.lost} lost by the cluster (run again)" if summary.lost else ""
+    click.echo(f"{output_path}: {summary.runs} runs: {summary.computed} computed in "
+               f"{summary.seconds:.1f} s ({summary.failed} failed){lost}, "
+               f"{summary.existing} already there")
+    if plot_path is not None:
+        click.echo(f"wrote {plot_path}")
+
+
 # --- the entry point ------------------------------------------------------------------------
 
 def _one_line(text) -> str:

@@ -33,6 +33,7 @@ import functools
 import json
 import math
 import os
+import threading
 from collections import OrderedDict
 
 import numpy as np
@@ -85,6 +86,7 @@ def default_table() -> dict:
 # evaluation (a sampled direct surface takes 0.16 s).
 _SURFACES: "OrderedDict[str, object]" = OrderedDict()
 _SURFACES_KEPT = 8
+_SURFACES_LOCK = threading.Lock()
 
 
 def _surface_of(params):
@@ -100,14 +102,16 @@ def _surface_of(params):
         except OSError:
             return build_surface(params)            # its own error message
     key = json.dumps(parts, sort_keys=True, default=str)
-    surface = _SURFACES.get(key)
-    if surface is None:
-        surface = build_surface(params)
+    with _SURFACES_LOCK:       # sweeps build models on several threads
+        surface = _SURFACES.get(key)
+        if surface is not None:
+            _SURFACES.move_to_end(key)
+            return surface
+    surface = build_surface(params)
+    with _SURFACES_LOCK:
         _SURFACES[key] = surface
         while len(_SURFACES) > _SURFACES_KEPT:
             _SURFACES.popitem(last=False)
-    else:
-        _SURFACES.move_to_end(key)
     return surface
 
 
