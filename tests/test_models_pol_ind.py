@@ -345,3 +345,44 @@ def test_models_with_the_same_surface_share_it_and_others_do_not():
     np.testing.assert_allclose(other.element_table().breakaway_force.sum(), 0.2 * 100.0)
     rougher = one.with_params(surface=dict(table["surface"], height_std=1e-6))
     assert rougher.contact().surface is not one.contact().surface
+
+
+def test_a_heights_file_replaces_the_sampled_surface_keys(tmp_path):
+    summits = tmp_path / "summits.csv"
+    rng = np.random.default_rng(2)
+    summits.write_text("h\n" + "\n".join(repr(float(h)) for h in rng.normal(0.0, 1e-6, 500)))
+    table = default_table()
+    table["discretisation"] = {"summation": "direct", "heights_file": str(summits),
+                               "elements": 16}
+    with pytest.raises(polind.InputError, match=r"'surface.asperity_density' .* not used with "
+                                                r"a 'discretisation.heights_file'"):
+        polind.model_from_dict({"model": table})
+    table["surface"] = {"asperity_radius": table["surface"]["asperity_radius"]}
+    model = polind.model_from_dict({"model": table})
+    assert model.contact().surface.asperity_count == 500
+    assert model.contact().elements.normal_load == pytest.approx(100.0, rel=1e-10)
+    statistical = default_table()
+    del statistical["surface"]["height_std"]
+    with pytest.raises(polind.InputError, match="Missing key 'surface.height_std'"):
+        polind.model_from_dict({"model": statistical})
+
+
+def test_a_fit_of_a_model_on_measured_summits_frees_only_the_keys_it_has(tmp_path):
+    summits = tmp_path / "summits.csv"
+    rng = np.random.default_rng(3)
+    summits.write_text("h\n" + "\n".join(repr(float(h)) for h in rng.normal(0.0, 1e-6, 300)))
+    table = default_table()
+    table["discretisation"] = {"summation": "direct", "heights_file": str(summits),
+                               "elements": 8}
+    table["surface"] = {"asperity_radius": table["surface"]["asperity_radius"]}
+    truth = polind.model_from_dict({"model": table})
+    t = np.linspace(0.0, 1.0, 201)
+    x = 2e-7 * np.sin(6 * t)
+    data = {"t": t, "x": x, "F": polind.simulate(truth, t, x=x).force}
+    start = truth.with_params(static_coefficient=0.2)
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fit = polind.identify(start, data)
+    assert "static_coefficient" in fit.free and "surface.height_std" not in fit.free
+    assert fit.model.params["static_coefficient"] == pytest.approx(0.15, rel=1e-3)

@@ -351,6 +351,14 @@ def _get(params: dict, key: str):
     return value
 
 
+def _has(params: dict, key: str) -> bool:
+    try:
+        _get(params, key)
+    except (KeyError, TypeError):
+        return False
+    return True
+
+
 def _set(params: dict, key: str, value) -> None:
     *parents, last = key.split(".")
     table = params
@@ -425,7 +433,10 @@ class _Free:
 
 def _free_keys(model: FrictionModel, free) -> list[str]:
     if free is None:
-        free = list(model.fit_defaults)
+        # The model's default free keys that its parameters have (a Pol-Ind model
+        # on a file of measured summits has no surface.height_std).
+        params = model.params
+        free = [key for key in model.fit_defaults if _has(params, key)]
         if not free:
             raise InputError(f"Name the free parameters of the {model.type} model: give "
                              "'free' (a list of keys) or a model document with a [fit] table.")

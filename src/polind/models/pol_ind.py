@@ -43,11 +43,14 @@ from polind.models.base import FrictionModel, StepFunctions, register
 from polind.models.gms import gms_arrays, gms_scales
 from polind.models.params import Param, Table, VISCOUS
 
+# The keys a file of measured summit heights replaces: required without one,
+# refused with one (PolInd._check).
+_SAMPLED_SURFACE_KEYS = ("asperity_density", "nominal_area", "height_std")
 _SURFACE = Table("surface", (
-    Param("asperity_density", unit="1/m^2"),
-    Param("nominal_area", unit="m^2"),
+    Param("asperity_density", unit="1/m^2", default=None),
+    Param("nominal_area", unit="m^2", default=None),
     Param("asperity_radius", unit="m"),
-    Param("height_std", unit="m"),
+    Param("height_std", unit="m", default=None),
 ))
 _MATERIALS = Table("materials", (
     Param("youngs_modulus", kind="pair", unit="Pa"),
@@ -198,6 +201,18 @@ class PolInd(FrictionModel):
                 params["discretisation"]["summation"] != "direct":
             raise InputError("The 'discretisation.heights_file' parameter of pol-ind needs "
                              "summation = \"direct\". Got \"statistical\" instead.")
+        surface = params["surface"]
+        if params["discretisation"].get("heights_file"):
+            for key in _SAMPLED_SURFACE_KEYS:
+                if key in surface:
+                    raise InputError(f"The 'surface.{key}' parameter of pol-ind is not used with "
+                                     f"a 'discretisation.heights_file': the file gives the "
+                                     f"summits themselves. Remove it.")
+        else:
+            for key in _SAMPLED_SURFACE_KEYS:
+                if key not in surface:
+                    raise InputError(f"Missing key 'surface.{key}' for a pol-ind model (needed "
+                                     f"without a 'discretisation.heights_file').")
 
     # --- contact mechanics (computed on first use, then cached) -----------------------
 
