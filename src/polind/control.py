@@ -320,30 +320,17 @@ class _SampleStep:
         while len(self.arrays) > _REMEMBERED:
             self.arrays.popitem(last=False)
 
-    def _first_force(self, scalars, table, flat, mount, velocity, load):
-        if mount is None:
-            return self.force(scalars, table, flat, velocity, load)
-        from polind.kernels.mount import SPRING_FORCE, STIFFNESS, scaled_force
-        if mount[STIFFNESS] < math.inf:
-            return mount[SPRING_FORCE]
-        return scaled_force(mount, self.force(scalars, table, flat, velocity, load), velocity,
-                            load)
-
     def _step(self, scalars, table, flat, mount, displacement, step_velocity, sample_velocity,
               load):
         if mount is None:
             return self.step(scalars, table, flat, self.dt, displacement, step_velocity,
                              sample_velocity, load)
-        from polind.kernels.series import run_mounted
-        # A one-step path; the load of its first sample is unknown (NaN), so the
-        # runner brings the model to this step's load first, as simulate does
-        # whenever the load changes.
-        path = np.array([[0.0, self.dt], [0.0, displacement], [0.0, step_velocity],
-                         [0.0, sample_velocity], [math.nan, load], [0.0, 0.0]])
-        run_mounted(self.step, self.force, self.tangent, mount, scalars, table, flat,
-                    np.empty(2 * flat.shape[0]), path[0], path[1], path[2], path[3], path[4],
-                    load, 0, 2, False, path[5])
-        return path[5, 1]
+        from polind.kernels.series import mounted_sample
+        # The load of the sample before is not part of the system state (NaN): the
+        # runner brings the model to this step's load first.
+        return mounted_sample(self.step, self.force, self.tangent, mount, scalars, table, flat,
+                              np.empty(2 * flat.shape[0]), np.zeros((6, 2)), self.dt,
+                              displacement, step_velocity, sample_velocity, math.nan, load)
 
     def advance(self, xs, u):
         """``(next system state, force)`` for system state ``xs`` and input ``u``."""
@@ -373,7 +360,8 @@ class _SampleStep:
             # The first sample: no step before it, the force at the state.
             if not self.by_position:
                 velocity = motion
-            force = self._first_force(scalars, table, flat, mount, velocity, load)
+            from polind.kernels.mount import first_force
+            force = first_force(self.force, mount, scalars, table, flat, velocity, load)
             if self.by_position:
                 position = motion
         elif self.by_position:

@@ -251,14 +251,16 @@ class Stepper:
 
 
     def _mounted_step(self, step, displacement, step_velocity, sample_velocity, load):
-        """One step of a mounted contact: a one-step path through the kernel's runner."""
-        path = self._path
-        path[0, 1], path[1, 1], path[2, 1], path[3, 1] = step, displacement, step_velocity, \
-            sample_velocity
-        path[4, 0], path[4, 1] = self._path_load, load   # the runner brings a model to a new load
+        """One step of a mounted contact (:func:`polind.kernels.series.mounted_sample`)."""
+        from polind.kernels.series import mounted_sample
+
+        kernel = self._kernel
+        force = mounted_sample(kernel.step, kernel.force, kernel.tangent, kernel.mount,
+                               kernel.scalars, kernel.table, kernel.state, kernel.scratch,
+                               self._path, step, displacement, step_velocity, sample_velocity,
+                               self._path_load, load)
         self._path_load = load
-        self._kernel.run(path[0], path[1], path[2], path[3], path[4], 0, 2, False, path[5])
-        return float(path[5, 1])
+        return force
 
 
 class Body:

@@ -83,3 +83,19 @@ def contact_step(step_function, mount, scalars, table, state, step, displacement
     force = step_function(scalars, table, state, step, displacement, step_velocity,
                           sample_velocity, normal_load)
     return scaled_force(mount, force, sample_velocity, normal_load)
+
+
+def first_force(force_function, mount, scalars, table, state, sample_velocity, normal_load):
+    """The force at a state without moving (a run's first sample) [N]; called from Python.
+
+    Behind a series spring it is the spring's force (0 at rest); else the
+    model's ``force`` at ``sample_velocity``, scaled by the load.  ``mount``
+    may be None (nothing around the contact).  The same rule as the first
+    sample of :func:`polind.kernels.series.run_mounted`.
+    """
+    if mount is not None and mount[STIFFNESS] < math.inf:
+        return float(mount[SPRING_FORCE])
+    force = force_function(scalars, table, state, sample_velocity, normal_load)
+    if mount is None:
+        return float(force)
+    return float(scaled_force(mount, force, sample_velocity, normal_load))

@@ -155,6 +155,25 @@ def run_mounted(step_function, force_function, tangent_function, mount, scalars,
                                       step_velocity[k], sample_velocity[k], load)
 
 
+def mounted_sample(step_function, force_function, tangent_function, mount, scalars, table,
+                   state, scratch, path, step, displacement, step_velocity, sample_velocity,
+                   previous_load, normal_load):
+    """One sample of a mounted contact, called from Python: a one-step path through :func:`run_mounted`.
+
+    ``path`` is a (6, 2) float64 work array; ``previous_load`` the load of the
+    sample before (NaN if unknown: the model is then brought to ``normal_load``
+    first, as :func:`run_mounted` does whenever the load changes).  Returns
+    the force [N]; ``state`` and ``mount`` are advanced.
+    """
+    path[0, 1], path[1, 1], path[2, 1], path[3, 1] = step, displacement, step_velocity, \
+        sample_velocity
+    path[4, 0], path[4, 1] = previous_load, normal_load
+    run_mounted(step_function, force_function, tangent_function, mount, scalars, table, state,
+                scratch, path[0], path[1], path[2], path[3], path[4], normal_load, 0, 2, False,
+                path[5])
+    return float(path[5, 1])
+
+
 @jit(cache=False)
 def mounted_body_step(step_function, tangent_function, memoryless, rest_capacity, force_scale,
                       mount, scalars, table, state, scratch, method, mass, drive_stiffness, step,

@@ -282,14 +282,11 @@ class StepKernel:
         Behind a series spring it is the spring's force (0 at rest); else the
         model's ``force`` at ``sample_velocity``, scaled by the load.
         """
+        from polind.kernels.mount import first_force
+
         load = self.normal_load if normal_load is None else normal_load
-        if self.mount is None:
-            return float(self.force(self.scalars, self.table, self.state, sample_velocity, load))
-        from polind.kernels.mount import SPRING_FORCE, STIFFNESS, scaled_force
-        if self.mount[STIFFNESS] < math.inf:
-            return float(self.mount[SPRING_FORCE])
-        force = self.force(self.scalars, self.table, self.state, sample_velocity, load)
-        return float(scaled_force(self.mount, force, sample_velocity, load))
+        return first_force(self.force, self.mount, self.scalars, self.table, self.state,
+                           sample_velocity, load)
 
     def run(self, step, displacement, step_velocity, sample_velocity, loads, lo, hi, first,
             out_force):
