@@ -122,6 +122,21 @@ class System:
         return float(force) if force.ndim == 0 else force
 
 
+#: The keys of a ``[system]`` file (dotted: ``spring_drive.stiffness`` is
+#: ``[system.spring_drive] stiffness``) and the :class:`System` field each sets.
+FILE_KEYS = {
+    "mass": "mass", "duration": "duration", "time_step": "time_step",
+    "spring_drive.stiffness": "spring_stiffness", "spring_drive.velocity": "drive_velocity",
+    "force.offset": "offset", "force.rate": "rate", "force.amplitude": "amplitude",
+    "force.frequency": "frequency",
+}
+
+
+def system_from_keys(values) -> System:
+    """A :class:`System` from dotted ``[system]`` file keys (:data:`FILE_KEYS`); absent keys default."""
+    return System(**{FILE_KEYS[key]: value for key, value in values.items()})
+
+
 def load_system(path) -> System:
     """Read a ``[system]`` file (TOML, or JSON; INTERFACE.md) into a :class:`System`.
 
@@ -129,14 +144,19 @@ def load_system(path) -> System:
     """
     from polind import io
 
-    table = io.read_system_file(path)
-    drive = table.get("spring_drive") or {}
-    force = table.get("force") or {}
-    return System(mass=table["mass"], duration=table["duration"], time_step=table["time_step"],
-                  spring_stiffness=drive.get("stiffness", 0.0),
-                  drive_velocity=drive.get("velocity", 0.0),
-                  offset=force.get("offset", 0.0), rate=force.get("rate", 0.0),
-                  amplitude=force.get("amplitude", 0.0), frequency=force.get("frequency", 0.0))
+    return system_from_keys(file_keys_of(io.read_system_file(path)))
+
+
+def file_keys_of(table) -> dict:
+    """The dotted keys of a system as :func:`polind.io.read_system_file` reads it.
+
+    Only the keys of the tables the file has (a key of an absent table is not
+    there to set).
+    """
+    values = {key: table[key] for key in ("mass", "duration", "time_step")}
+    for name in ("spring_drive", "force"):
+        values.update({f"{name}.{key}": value for key, value in (table.get(name) or {}).items()})
+    return values
 
 
 @dataclass

@@ -57,7 +57,8 @@ from io import BytesIO, StringIO
 import numpy as np
 
 from polind import io
-from polind.dynamics import BYTES_PER_SAMPLE, System, simulate_system
+from polind.dynamics import (BYTES_PER_SAMPLE, FILE_KEYS, System, file_keys_of,
+                             simulate_system, system_from_keys)
 from polind.errors import InputError, describe
 from polind.identification import _declaration
 from polind.io import _atomic_open, _number_text
@@ -298,29 +299,12 @@ def _loop_area_metric(run):
 # --- the system table -----------------------------------------------------------------------
 
 #: The keys of a [system] file (INTERFACE.md) and the System fields they set.
-SYSTEM_KEYS = {
-    "mass": "mass", "duration": "duration", "time_step": "time_step",
-    "spring_drive.stiffness": "spring_stiffness", "spring_drive.velocity": "drive_velocity",
-    "force.offset": "offset", "force.rate": "rate", "force.amplitude": "amplitude",
-    "force.frequency": "frequency",
-}
-
-
-def _flat_system(table: Mapping) -> dict:
-    """The dotted keys of a system as :func:`polind.io.read_system_file` reads it.
-
-    Only the keys of the tables the file has: a sweep cannot set a key of an
-    absent table.
-    """
-    flat = {key: table[key] for key in ("mass", "duration", "time_step")}
-    for name in ("spring_drive", "force"):
-        for key, value in (table.get(name) or {}).items():
-            flat[f"{name}.{key}"] = value
-    return flat
+#: The dotted keys of a [system] file and the System fields they set.
+SYSTEM_KEYS = FILE_KEYS
 
 
 def _system_of(flat: Mapping) -> System:
-    return System(**{SYSTEM_KEYS[key]: value for key, value in flat.items()})
+    return system_from_keys(flat)
 
 
 # --- the parameters -------------------------------------------------------------------------
@@ -557,7 +541,7 @@ class Sweep:
             elif isinstance(system, (str, os.PathLike)):
                 path = self._path(system)
                 self.inputs.append(path)
-                self.system = _flat_system(io.read_system_file(path))
+                self.system = file_keys_of(io.read_system_file(path))
                 try:
                     _system_of(self.system)
                 except InputError as error:
