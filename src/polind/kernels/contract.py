@@ -70,6 +70,12 @@ def run_steps(step, force, scalars, table, state, step_length, displacement, ste
 
 
 @jit(fastmath=False)
+def finite(value):
+    """``math.isfinite`` compiled without fast-math (see :func:`motion_step`), for fast-math loops."""
+    return math.isfinite(value)
+
+
+@jit(fastmath=False)
 def motion_step(by_velocity, t0, t1, m0, m1, x0):
     """``(h, dx, w, x1, code)`` of the step from sample 0 to 1 of a prescribed motion (:func:`cut_path`).
 
@@ -116,13 +122,11 @@ def run_motion(step, force, scalars, table, state, t, motion, by_velocity, start
         if by_velocity:
             if lo == 0:
                 position[0] = start_position
-            code = motion_step(True, 0.0, 0.0, 0.0, motion[lo], 0.0)[4]
-            if code == NOT_FINITE:
+            if not finite(motion[lo]):
                 return NOT_FINITE, lo
             sample_velocity = motion[lo]
         else:
-            code = motion_step(False, 0.0, 1.0, 0.0, motion[lo], 0.0)[4]
-            if code == NOT_FINITE:
+            if not finite(motion[lo]):
                 return NOT_FINITE, lo
             if lo == 0 and continuing:
                 sample_velocity = start_velocity
