@@ -867,6 +867,9 @@ class _Results:
     def _read(self, design):
         rows = self._read_parquet() if self.parquet else self._read_csv()
         runs = len(design)
+        # In run order (a file holds its rows in the order runs finished), so that a
+        # mismatch names the same run whatever the engine and its timing were.
+        rows.sort(key=lambda numbered: (numbered[1]["run"], numbered[0]))
         for number, row in rows:
             index = row["run"]
             if not 0 <= index < runs:
