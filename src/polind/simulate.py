@@ -20,8 +20,9 @@ __all__ = ["SimulationResult", "simulate", "as_samples", "warn_ignored_load", "C
 #: Samples between two progress reports of a long run.
 CHUNK = 1 << 18
 
-# Samples per block of step arrays: simulate cuts the motion into steps one block at a time
-# (the kernel's state carries over), so that it holds those arrays for a block, not a run.
+# Samples per block of step arrays for a mounted model (series spring, load scaling): its
+# runs cut the motion into steps one block at a time (the kernel's state carries over), so
+# that they hold those arrays for a block, not a run.  Other models need no step arrays.
 _BLOCK = 1 << 15
 
 
@@ -310,8 +311,8 @@ def simulate(model: FrictionModel, t, x=None, v=None, *, normal_load=None,
             raise InputError(f"The 'state' must be a polind State (a result's final_state or "
                              f"State.from_dict). Got {describe(state)} instead.")
         model.check_state(state)
-    # Memory: t, x, v and the forces (32 bytes a sample), the load given, and step
-    # arrays for one block of samples.
+    # Memory: t, x, v and the forces (32 bytes a sample), the load given, and (a
+    # mounted model only) step arrays for one block of samples.
     path = _SteppedMotion(t, x, v, state, validate=False)
     if state is not None:
         given = path.motion
