@@ -150,8 +150,9 @@ def read_model_file(path) -> dict:
     -------
     dict
         The document: a ``"model"`` table and, if present, a ``"fit"`` table.
-        A relative ``model.discretisation.heights_file`` is made absolute
-        against the model file's directory.
+        A relative ``model.discretisation.heights_file`` or
+        ``model.surface.topography`` is made absolute against the model
+        file's directory.
 
     Raises
     ------
@@ -171,13 +172,14 @@ def read_model_file(path) -> dict:
     name = os.fspath(path)
     document = _read_document(path)
     _check_tables(name, document, required=("model",), allowed=("model", "fit"))
-    discretisation = document["model"].get("discretisation")
-    if isinstance(discretisation, dict):
-        heights = discretisation.get("heights_file")
-        # A heights_file that is not a string is the model's to reject.
-        if isinstance(heights, str) and heights and not os.path.isabs(heights):
-            folder = os.path.dirname(os.path.abspath(name))
-            discretisation["heights_file"] = os.path.normpath(os.path.join(folder, heights))
+    # Files a model names are relative to the model file.  A value that is
+    # not a string is the model's to reject.
+    folder = os.path.dirname(os.path.abspath(name))
+    for table, key in (("discretisation", "heights_file"), ("surface", "topography")):
+        entries = document["model"].get(table)
+        value = entries.get(key) if isinstance(entries, dict) else None
+        if isinstance(value, str) and value and not os.path.isabs(value):
+            entries[key] = os.path.normpath(os.path.join(folder, value))
     return document
 
 

@@ -21,7 +21,7 @@ from polind.contact.separation import solve_separation
 from polind.contact.surface import DirectSurface, StatisticalSurface
 from polind.errors import InputError, describe
 
-__all__ = ["Contact", "build_contact", "build_surface", "default_contact_parameters"]
+__all__ = ["Contact", "build_contact", "build_surface", "default_contact_parameters", "measured_surface"]
 
 # The default Pol-Ind parameter set of INTERFACE.md (a steel pair under 100 N),
 # restricted to the keys the contact mechanics reads.
@@ -176,6 +176,28 @@ def build_contact(params: Mapping | None = None, base_dir=None, *, surface=None)
     return Contact(surface=surface, normal_load=normal_load, separation=separation, elements=elements)
 
 
+def measured_surface(surface_keys: Mapping, E_star, G_star, base_dir=None):
+    """The direct surface of a ``[model.surface]`` table with a ``topography`` (a height map).
+
+    Reads the map (:func:`polind.topography.load_measured_surface`, with the
+    table's ``pixel_size`` and ``short_cutoff``), and sums over its summits
+    with their own radii, each standing for ``nominal_area / A_map`` summits
+    (:meth:`~polind.contact.surface.DirectSurface.from_topography`).
+    """
+    from polind.topography import load_measured_surface
+
+    path = surface_keys["topography"]
+    if not isinstance(path, (str, os.PathLike)) or not os.fspath(path):
+        raise InputError(f"The 'surface.topography' of pol-ind must be a file name. Got {describe(path)}.")
+    path = os.fspath(path)
+    if base_dir is not None and not os.path.isabs(path):
+        path = os.path.join(os.fspath(base_dir), path)
+    measured = load_measured_surface(path, surface_keys.get("pixel_size"),
+                                     surface_keys.get("short_cutoff"))
+    return DirectSurface.from_topography(measured, E_star, G_star,
+                                         nominal_area=surface_keys.get("nominal_area"))
+
+
 def build_surface(params: Mapping | None = None, base_dir=None):
     """The surface of a pol-ind model table (statistical or direct), before any load.
 
@@ -195,7 +217,13 @@ def build_surface(params: Mapping | None = None, base_dir=None):
     nu1, nu2 = _pair(materials, "poisson_ratio")
     E_star, G_star = effective_moduli(E1, nu1, E2, nu2)
 
-    summation = discretisation["summation"]
+    topography = (params.get("surface") or {}).get("topography")
+    summation = discretisation.get("summation") or ("direct" if topography else "statistical")
+    if topography is not None:
+        if summation != "direct":
+            raise InputError("The 'surface.topography' of pol-ind needs summation = \"direct\". "
+                             "Got \"statistical\".")
+        return measured_surface(params["surface"], E_star, G_star, base_dir)
     heights_file = discretisation.get("heights_file")
     if summation == "statistical":
         if heights_file is not None:

@@ -32,7 +32,12 @@ Given the applied load, the counts are finally scaled by
 ``N_app / sum_j n_j P(delta_j)`` (a factor within 1e-10 of 1 after the
 separation solve) so that ``sum_j W_j = mu_s N_app`` to rounding.  A direct
 table keeps whole summits (``n_j`` = number of summits at that height); its
-load is ``N(d)``, within the solver's 1e-10 of ``N_app``.
+load is ``N(d)``, within the solver's 1e-10 of ``N_app``.  Summits with radii
+of their own (a measured map) get ``k_j = n_j 8 G* sqrt(R_j delta_j)`` and
+``W_j = n_j mu_s (4/3) E* sqrt(R_j) delta_j^(3/2)``, which are those of
+``w_j = n_j sqrt(R_j / R)`` summits of the reference radius ``R``: the
+table keeps these Hertz weights (:attr:`ElementTable.weights`) and every
+kernel sums with them.
 
 The element heights ``h_j = d + delta_j`` are fixed, so a table built at one
 separation can follow a time-varying separation ``d(t)``
@@ -93,6 +98,10 @@ class ElementTable:
         ``mu_s`` [-].
     asperity_radius, E_star, G_star : float
         ``R`` [m] and the effective moduli [Pa], to re-evaluate the table.
+    weights : numpy.ndarray or None
+        Hertz weights ``w_j = n_j sqrt(R_j / R)`` of elements whose summits
+        have radii ``R_j`` of their own; ``None`` when every radius is ``R``
+        (then ``w_j = n_j``).  See :attr:`contact_weights`.
     """
 
     heights: np.ndarray
@@ -105,6 +114,12 @@ class ElementTable:
     asperity_radius: float
     E_star: float
     G_star: float
+    weights: np.ndarray | None = None
+
+    @property
+    def contact_weights(self) -> np.ndarray:
+        """``w_j``: the counts the kernels scale ``k_j`` and ``W_j`` by (``n_j sqrt(R_j / R)``)."""
+        return self.asperities if self.weights is None else self.weights
 
     def __len__(self) -> int:
         return int(self.heights.size)
@@ -125,7 +140,7 @@ class ElementTable:
         out_W = np.empty_like(self.heights)
         element_properties(
             self.heights,
-            self.asperities,
+            self.contact_weights,
             float(separation),
             self.asperity_radius,
             self.E_star,
@@ -159,7 +174,13 @@ class ElementTable:
         """
         from polind.contact.surface import DirectSurface
 
-        return DirectSurface(self.heights, self.asperity_radius, self.E_star, self.G_star, counts=self.asperities)
+        if self.weights is None:
+            return DirectSurface(self.heights, self.asperity_radius, self.E_star, self.G_star,
+                                 counts=self.asperities)
+        # Each element's radius is the one its Hertz weight stands for: R (w_j / n_j)^2.
+        radii = self.asperity_radius * (self.weights / self.asperities) ** 2
+        return DirectSurface(self.heights, self.asperity_radius, self.E_star, self.G_star,
+                             counts=self.asperities, radii=radii)
 
     def records(self) -> list[dict]:
         """One dict per element: ``stiffness``, ``breakaway_force``, ``asperities``, ``interference``."""
@@ -289,16 +310,19 @@ def element_table(surface, separation, static_coefficient, n_elements=64, normal
     else:
         start = int(np.searchsorted(surface.heights, d, side="right"))
         heights = surface.heights[start:].copy()
-        counts = surface.counts[start:].copy()
+        asperities = surface.counts[start:].copy()
+        counts = surface.weights[start:].copy() if surface.has_radii else asperities
         interference = heights - d
     stiffness = np.empty_like(heights)
     breakaway_force = np.empty_like(heights)
     element_properties(
         heights, counts, d, surface.asperity_radius, surface.E_star, surface.G_star, mu_s, stiffness, breakaway_force
     )
+    if surface.kind == "statistical":
+        asperities = counts
     return ElementTable(
         heights=heights,
-        asperities=counts,
+        asperities=asperities,
         interference=interference,
         stiffness=stiffness,
         breakaway_force=breakaway_force,
@@ -307,4 +331,5 @@ def element_table(surface, separation, static_coefficient, n_elements=64, normal
         asperity_radius=surface.asperity_radius,
         E_star=surface.E_star,
         G_star=surface.G_star,
+        weights=None if counts is asperities else counts,
     )

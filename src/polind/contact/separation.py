@@ -29,7 +29,9 @@ Loads the surface cannot carry are :class:`polind.InputError`:
   ``d/sigma_a > 10`` (fewer than ``eta A0 * 8e-24`` summits in contact:
   the load is carried by no asperity in any physical sense); this is also
   the range over which the ``F_m`` are verified to 1e-10;
-- direct surface: nothing more.  Any positive load has a separation below
+- direct surface from a measured map: a load above ``N`` at its lowest
+  summit (every measured summit in contact; the map cannot carry it);
+- other direct surfaces: nothing more.  Any positive load has a separation below
   the highest summit (the load tends to 0 as ``d`` tends to it); a load
   above ``N(lowest summit)`` puts the flat below every summit, all in
   contact, and is accepted, because an element table used as a surface
@@ -82,6 +84,14 @@ def _checked_initial(value) -> float:
 def _check_reachable(surface, load: float, where: str = "") -> None:
     """Raise InputError if no separation in the surface's range carries ``load``."""
     smallest, largest = surface.load_range
+    if surface.kind == "direct" and load > largest:
+        raise InputError(
+            f"The 'normal_load' of pol-ind is more than the measured surface "
+            f"'{getattr(surface, 'source', 'map')}' can carry: every one of its "
+            f"{surface.asperity_count:.6g} summits would be in contact and the flat would reach "
+            f"the valleys between them. Got {load!r} N{where}; expected at most {largest:.6g} N "
+            f"(a larger 'surface.nominal_area' spreads the load over more summits)."
+        )
     if surface.kind == "statistical":
         if load > largest:
             raise InputError(
@@ -109,7 +119,8 @@ def _initial_guess(surface, load: float, low: float, high: float) -> float:
     if surface.kind == "statistical":
         mean, std, count = 0.0, surface.height_std, surface.asperity_count
     else:
-        (mean, std), count = surface.height_statistics, surface.asperity_count
+        # Summits of their own radii count by their Hertz weights c_i sqrt(R_i / R).
+        (mean, std), count = surface.height_statistics, float(surface.weights.sum())
     if std > 0.0:
         scale = (4.0 / 3.0) * count * surface.E_star * math.sqrt(surface.asperity_radius) * std**1.5
         guess = mean + std * three_halves_inverse(load / scale)
@@ -125,13 +136,14 @@ def _kernel_surface(surface) -> tuple:
 
     ``(kind, load_scale, height_std, heights, counts, hertz, addresses)``,
     see :mod:`polind.kernels.separation`.  The scales are the surfaces' own
-    (``_load_scale``, ``_hertz_scale``), so the kernels' loads are those of
-    ``surface.load_and_slope`` to the bit.
+    (``_load_scale``, ``_hertz_scale``) and a direct surface passes its
+    Hertz weights ``c_i sqrt(R_i / R)`` as the counts, so the kernels' loads
+    are those of ``surface.load_and_slope`` to the bit.
     """
     if surface.kind == "statistical":
         return (_kernels.STATISTICAL, surface._load_scale, surface.height_std, _NO_SUMMITS, _NO_SUMMITS,
                 0.0, special_addresses())
-    return (_kernels.DIRECT, 0.0, 1.0, surface.heights, surface.counts, surface._hertz_scale(),
+    return (_kernels.DIRECT, 0.0, 1.0, surface.heights, surface.weights, surface._hertz_scale(),
             special_addresses())
 
 

@@ -166,32 +166,50 @@ def _tail_moments_many(heights, counts, separations, out):
 
 
 class DirectSurface:
-    """A finite set of summit heights, every total a plain sum (approach I).
+    """A finite set of summits, every total a plain sum (approach I).
 
-    ``N(d) = sum_{h_i > d} c_i P(h_i - d)``, ``n(d) = sum_{h_i > d} c_i``,
-    ``A(d) = sum_{h_i > d} c_i pi R (h_i - d)``, with the Hertz load ``P`` of
-    MODELS.md 7.2 and ``c_i`` the number of summits at height ``h_i`` (1 for
-    a sample; any positive weight, e.g. the asperity counts of an element
-    table, is accepted).
+    ``N(d) = sum_{h_i > d} c_i (4/3) E* sqrt(R_i) (h_i - d)^(3/2)``,
+    ``n(d) = sum_{h_i > d} c_i``, ``A(d) = sum_{h_i > d} c_i pi R_i (h_i - d)``
+    (the Hertz contact of the user guide's single asperity), with ``c_i``
+    the number of summits the entry ``i`` stands for (1 for a sample; any
+    positive weight, e.g. the asperity counts of an element table or the
+    ``A0 / A_map`` of a measured map, is accepted) and ``R_i`` its radius.
 
     Parameters
     ----------
     heights : array_like
         Summit heights ``h_i`` [m], measured from the reference plane of the
-        separation (for a sample: the mean summit height).
+        separation (for a sample or a map: the mean summit height).
     asperity_radius : float
-        Summit radius ``R`` [m].
+        Summit radius ``R`` [m]; with ``radii``, the reference radius the
+        kernels scale by (a measured map uses ``1 / mean(kappa)``).
     E_star, G_star : float
         Effective normal and tangential moduli [Pa].
     counts : array_like, optional
         Summits at each height (default: one each).
+    radii : array_like, optional
+        Each summit's own radius ``R_i`` [m] (default: ``asperity_radius``
+        for all).
 
     Notes
     -----
+    In Hertz and Mindlin contact the radius enters the load
+    ``P = (4/3) E* sqrt(R) delta^(3/2)`` and the tangential stiffness
+    ``k = 8 G* sqrt(R delta)`` only through ``sqrt(R)``, so ``c_i`` summits
+    of radius ``R_i`` carry exactly the load, stiffness and break-away force
+    of ``w_i = c_i sqrt(R_i / R)`` summits of the reference radius ``R``.
+    :attr:`weights` holds these ``w_i``; every kernel (separation, element
+    table, the Pol-Ind step) sums with them and one scalar radius, so
+    per-summit radii cost nothing in the hot loops.  Only the count of
+    contacts (``c_i``) and the real area (``c_i R_i``) need the radii
+    themselves.
+
     The constructor sorts the heights once and merges equal heights (adding
-    their counts); sums over the summits in contact then run over the
-    sorted tail above ``d`` only, in a numba kernel.  Use
-    :meth:`from_seed` or :meth:`from_csv` to build one from model parameters.
+    their counts, weights and areas, which are all additive, so summits of
+    different radii at one height merge exactly); sums over the summits in
+    contact then run over the sorted tail above ``d`` only, in a numba
+    kernel.  Use :meth:`from_seed`, :meth:`from_csv` or
+    :meth:`from_topography` to build one from model parameters.
 
     Examples
     --------
@@ -200,15 +218,22 @@ class DirectSurface:
     ([1e-06, 2e-06], [1.0, 2.0])
     >>> float(surface.contacts(1.5e-6))
     2.0
+    >>> four = DirectSurface([1e-6], 25e-6, 1.15e11, 2.4e10, radii=[100e-6])
+    >>> float(four.weights[0])                  # sqrt(100 / 25): twice the load of R = 25 um
+    2.0
     """
 
     kind = "direct"
 
-    def __init__(self, heights, asperity_radius, E_star, G_star, counts=None):
+    def __init__(self, heights, asperity_radius, E_star, G_star, counts=None, radii=None):
         self.asperity_radius = positive_number(asperity_radius, "surface.asperity_radius")
         self.E_star = positive_number(E_star, "E_star")
         self.G_star = positive_number(G_star, "G_star")
-        self.heights, self.counts = _sorted_heights(heights, counts)
+        self.heights, self.counts, self.weights, self._area_weights = _sorted_heights(
+            heights, counts, radii, self.asperity_radius)
+        #: Lowest separation the surface may be pressed to [m] (``-inf``: any
+        #: load is carried; a measured map sets its lowest summit).
+        self.lowest_separation = -math.inf
 
     @classmethod
     def from_seed(cls, asperity_density, nominal_area, height_std, asperity_radius, E_star, G_star, seed=0):
@@ -265,21 +290,77 @@ class DirectSurface:
         """
         return cls(read_summit_heights(path), asperity_radius, E_star, G_star)
 
+    @classmethod
+    def from_topography(cls, measured, E_star, G_star, nominal_area=None):
+        """The summits of a measured height map, each with its own radius.
+
+        Parameters
+        ----------
+        measured : polind.topography.MeasuredSurface
+            The analysed map (:func:`polind.topography.load_measured_surface`).
+        E_star, G_star : float
+            Effective moduli [Pa].
+        nominal_area : float, optional
+            The nominal contact area ``A0`` [m^2] the model stands for;
+            default the map's own area ``A_map = valid_points dx dy``.
+            **Choice** (the user guide, measured surfaces): each measured
+            summit stands for ``A0 / A_map`` summits, so the surface keeps
+            the map's summit density, height and radius distributions.
+
+        Returns
+        -------
+        DirectSurface
+            Heights measured from the mean summit height (the reference
+            plane of the Greenwood–Williamson equivalent, so that the two
+            surfaces' separations compare), reference radius
+            ``1 / mean(kappa)``, and :attr:`lowest_separation` at the lowest
+            summit: a load that would bring the flat below every measured
+            summit is more than the map can carry (the valleys between the
+            summits, which the map does not resolve as summits, would touch).
+        """
+        heights = np.asarray(measured.summit_heights, dtype=float)
+        area = float(measured.nominal_area)
+        scale = 1.0 if nominal_area is None else positive_number(nominal_area, "surface.nominal_area") / area
+        surface = cls(heights - heights.mean(), measured.summit_radius_mean, E_star, G_star,
+                      counts=np.full(heights.size, scale), radii=measured.summit_radii)
+        surface.lowest_separation = float(surface.heights[0])
+        surface.source = measured.source
+        #: The Greenwood–Williamson surface of the map (``[model.surface]`` keys,
+        #: ``nominal_area`` the model's ``A0``).
+        surface.greenwood_williamson = {
+            **{key: float(value) for key, value in measured.greenwood_williamson().items()},
+            "nominal_area": area if nominal_area is None else float(nominal_area)}
+        return surface
+
     @property
     def asperity_count(self) -> float:
         """Number of summits (sum of the counts)."""
         return float(self.counts.sum())
 
+    @cached_property
+    def has_radii(self) -> bool:
+        """Whether the summits have radii of their own (weights differ from counts)."""
+        return self.weights is not self.counts
+
     def _moments(self, d) -> np.ndarray:
-        """Tail sums of ``delta^p``, ``p = 0, 1/2, 1, 3/2``; shape ``d.shape + (4,)``."""
+        """Tail sums ``(sum c, sum w sqrt(delta), sum c R_i / R delta, sum w delta^(3/2))``.
+
+        Shape ``d.shape + (4,)``.
+        """
         separations = np.asarray(d, dtype=float)
         flat = np.ascontiguousarray(separations.ravel())
         out = np.empty((flat.size, 4))
-        _tail_moments_many(self.heights, self.counts, flat, out)
+        _tail_moments_many(self.heights, self.weights, flat, out)
+        if self.has_radii:
+            other = np.empty((flat.size, 4))
+            _tail_moments_many(self.heights, self.counts, flat, other)
+            out[:, 0] = other[:, 0]
+            _tail_moments_many(self.heights, self._area_weights, flat, other)
+            out[:, 2] = other[:, 2]
         return out.reshape(separations.shape + (4,))
 
     def _hertz_scale(self) -> float:
-        """``(4/3) E* sqrt(R)`` [N/m^(3/2)]: ``P = scale delta^(3/2)``."""
+        """``(4/3) E* sqrt(R)`` [N/m^(3/2)]: ``P = scale w delta^(3/2)``."""
         return (4.0 / 3.0) * self.E_star * math.sqrt(self.asperity_radius)
 
     def normal_load(self, d):
@@ -300,22 +381,25 @@ class DirectSurface:
 
     def load_and_slope(self, d: float) -> tuple[float, float]:
         """``(N(d), dN/dd)`` for one separation ``d`` [m] (one Python call)."""
-        _, root_sum, _, load_sum = tail_moments(self.heights, self.counts, float(d))
+        _, root_sum, _, load_sum = tail_moments(self.heights, self.weights, float(d))
         scale = self._hertz_scale()
         return scale * load_sum, -1.5 * scale * root_sum
 
     @property
     def separation_range(self) -> tuple[float, float]:
-        """Separations the solver may return [m]: anything below the highest summit.
+        """Separations the solver may return [m]: below the highest summit.
 
         Below the lowest summit every summit is in contact and ``N(d)`` keeps
-        growing as ``(h - d)^(3/2)``: any positive load has a separation.
+        growing as ``(h - d)^(3/2)``: any positive load has a separation,
+        unless :attr:`lowest_separation` (a measured map) stops it there.
         """
-        return -math.inf, float(self.heights[-1])
+        return self.lowest_separation, float(self.heights[-1])
 
     @property
     def load_range(self) -> tuple[float, float]:
-        """Loads [N] the surface can carry: every positive load."""
+        """Loads [N] the surface can carry: every positive load, or up to ``N(lowest_separation)``."""
+        if math.isfinite(self.lowest_separation):
+            return 0.0, float(self.normal_load(self.lowest_separation))
         return 0.0, math.inf
 
     @cached_property
@@ -327,15 +411,38 @@ class DirectSurface:
         return mean, std
 
     def __repr__(self) -> str:
+        radii = ", own radii" if self.has_radii else ""
         return (
-            f"DirectSurface(<{self.heights.size} heights, {self.asperity_count:.6g} summits>, "
+            f"DirectSurface(<{self.heights.size} heights, {self.asperity_count:.6g} summits{radii}>, "
             f"asperity_radius={self.asperity_radius!r}, E_star={self.E_star!r}, "
             f"G_star={self.G_star!r})"
         )
 
 
-def _sorted_heights(heights, counts) -> tuple[np.ndarray, np.ndarray]:
-    """Validate, sort ascending and merge equal heights; returns (heights, counts)."""
+def _positive_array(values, name, shape) -> np.ndarray:
+    """A float array of ``shape`` with every entry positive and finite, else InputError."""
+    array = np.asarray(values, dtype=float)
+    if array.shape != shape:
+        raise InputError(
+            f"The asperity '{name}' of pol-ind must match the heights, shape {shape}. "
+            f"Got shape {array.shape}."
+        )
+    bad = np.flatnonzero(~(np.isfinite(array) & (array > 0.0)))
+    if bad.size:
+        raise InputError(
+            f"The asperity '{name}' of pol-ind must be positive and finite. "
+            f"Got {array[bad[0]]!r} at index {bad[0]}."
+        )
+    return array
+
+
+def _sorted_heights(heights, counts, radii=None, radius=1.0):
+    """Validate, sort ascending and merge equal heights.
+
+    Returns ``(heights, counts, weights, area_weights)``: ``weights`` are
+    ``c_i sqrt(R_i / radius)`` and ``area_weights`` ``c_i R_i / radius``;
+    without ``radii`` both are the ``counts`` array itself.
+    """
     values = np.asarray(heights, dtype=float)
     if values.ndim != 1 or values.size == 0:
         raise InputError(
@@ -347,34 +454,31 @@ def _sorted_heights(heights, counts) -> tuple[np.ndarray, np.ndarray]:
         raise InputError(
             f"The summit 'heights' of pol-ind must be finite. Got {values[bad[0]]!r} at index {bad[0]}."
         )
-    if counts is None:
-        weights = np.ones_like(values)
-    else:
-        weights = np.asarray(counts, dtype=float)
-        if weights.shape != values.shape:
-            raise InputError(
-                f"The asperity 'counts' of pol-ind must match the heights, shape {values.shape}. "
-                f"Got shape {weights.shape}."
-            )
-        bad = np.flatnonzero(~(np.isfinite(weights) & (weights > 0.0)))
-        if bad.size:
-            raise InputError(
-                f"The asperity 'counts' of pol-ind must be positive and finite. "
-                f"Got {weights[bad[0]]!r} at index {bad[0]}."
-            )
-    if counts is None:
+    columns = []
+    if counts is not None:
+        columns.append(_positive_array(counts, "counts", values.shape))
+    if radii is not None:
+        ratio = _positive_array(radii, "radii", values.shape) / radius
+        number = columns[0] if columns else np.ones_like(values)
+        columns = [number, number * np.sqrt(ratio), number * ratio]
+    if not columns:
         # All weights are 1: a plain sort is about twice as fast as argsort.
         values = np.sort(values)
+        columns = [np.ones_like(values)]
     else:
-        order = np.argsort(values)
+        order = np.argsort(values, kind="stable")
         values = values[order]
-        weights = weights[order]
-    # Equal heights become one summit group: same interference, same forces.
+        columns = [column[order] for column in columns]
+    # Equal heights become one summit group: same interference; counts,
+    # weights and areas add.
     starts = np.flatnonzero(np.concatenate(([True], values[1:] != values[:-1])))
     if starts.size != values.size:
-        weights = np.add.reduceat(weights, starts)
+        columns = [np.add.reduceat(column, starts) for column in columns]
         values = values[starts]
-    return np.ascontiguousarray(values), np.ascontiguousarray(weights)
+    columns = [np.ascontiguousarray(column) for column in columns]
+    if len(columns) == 1:
+        columns = columns * 3
+    return (np.ascontiguousarray(values), *columns)
 
 
 def read_summit_heights(path) -> np.ndarray:

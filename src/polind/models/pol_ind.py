@@ -46,18 +46,26 @@ from polind.models.params import Param, Table, VISCOUS
 # The keys a file of measured summit heights replaces: required without one,
 # refused with one (PolInd._check).
 _SAMPLED_SURFACE_KEYS = ("asperity_density", "nominal_area", "height_std")
+# The keys a measured height map replaces (it gives every summit's height and radius).
+_MAPPED_SURFACE_KEYS = ("asperity_density", "asperity_radius", "height_std")
+# The keys that only go with a height map.
+_MAP_KEYS = ("pixel_size", "short_cutoff")
 _SURFACE = Table("surface", (
     Param("asperity_density", unit="1/m^2", default=None),
     Param("nominal_area", unit="m^2", default=None),
-    Param("asperity_radius", unit="m"),
+    Param("asperity_radius", unit="m", default=None),
     Param("height_std", unit="m", default=None),
+    Param("topography", kind="path", default=None),
+    Param("pixel_size", kind="pair", unit="m", default=None),
+    Param("short_cutoff", unit="m", default=None),
 ))
 _MATERIALS = Table("materials", (
     Param("youngs_modulus", kind="pair", unit="Pa"),
     Param("poisson_ratio", kind="pair", bound="poisson"),
 ))
 _DISCRETISATION = Table("discretisation", (
-    Param("summation", kind="str", default="statistical", choices=("statistical", "direct")),
+    # Default: "direct" with a surface.topography, else "statistical" (PolInd._check).
+    Param("summation", kind="str", default=None, choices=("statistical", "direct")),
     Param("elements", kind="int", default=64),
     Param("seed", kind="int", bound="nonnegative", default=0),
     Param("heights_file", kind="path", default=None),
@@ -97,13 +105,15 @@ def _surface_of(params):
     from polind.contact import build_surface
 
     parts = {key: params.get(key) for key in ("surface", "materials", "discretisation")}
-    heights = (params.get("discretisation") or {}).get("heights_file")
-    if heights:
-        try:
-            status = os.stat(heights)
-            parts["heights_file_status"] = [status.st_size, status.st_mtime_ns]
-        except OSError:
-            return build_surface(params)            # its own error message
+    files = {"heights_file": (params.get("discretisation") or {}).get("heights_file"),
+             "topography": (params.get("surface") or {}).get("topography")}
+    for name, path in files.items():
+        if path:
+            try:
+                status = os.stat(path)
+            except OSError:
+                return build_surface(params)        # its own error message
+            parts[f"{name}_status"] = [os.path.abspath(path), status.st_size, status.st_mtime_ns]
     key = json.dumps(parts, sort_keys=True, default=str)
     with _SURFACES_LOCK:       # sweeps build models on several threads
         surface = _SURFACES.get(key)
@@ -148,7 +158,15 @@ class PolInd(FrictionModel):
         sigma2 [N s/m].
     surface : table
         ``asperity_density`` eta [1/m^2], ``nominal_area`` A0 [m^2],
-        ``asperity_radius`` R [m], ``height_std`` sigma_a [m].
+        ``asperity_radius`` R [m], ``height_std`` sigma_a [m]; or a measured
+        height map: ``topography`` (a file, relative to the model file),
+        ``pixel_size`` [dx, dy] [m] (``.npy``/``.csv`` grids only),
+        ``short_cutoff`` [m] (optional low-pass) and optionally
+        ``nominal_area`` (default the map's area; each measured summit
+        stands for ``A0 / A_map`` summits).  The map gives eta, R and
+        sigma_a (every summit has its own height and radius) and implies
+        direct summation; :meth:`statistical_equivalent` is the
+        Greenwood–Williamson model of the same map.
     materials : table
         ``youngs_modulus`` [E1, E2] [Pa], ``poisson_ratio`` [nu1, nu2].
     discretisation : table
@@ -193,7 +211,35 @@ class PolInd(FrictionModel):
     def _check(cls, params):
         from polind.contact.elements import MAX_ELEMENTS
 
-        count = params["discretisation"]["elements"]
+        surface = params["surface"]
+        discretisation = params["discretisation"]
+        mapped = surface.get("topography") is not None
+        if "summation" not in discretisation:
+            discretisation["summation"] = "direct" if mapped else "statistical"
+        if mapped:
+            for key in _MAPPED_SURFACE_KEYS:
+                if key in surface:
+                    raise InputError(f"The 'surface.{key}' parameter of pol-ind is not used with a "
+                                     f"'surface.topography': the height map gives every summit's "
+                                     f"height and radius. Remove it.")
+            if discretisation["summation"] != "direct":
+                raise InputError("The 'surface.topography' of pol-ind sums over the measured "
+                                 "summits: it needs summation = \"direct\". Got \"statistical\" "
+                                 "instead; remove 'discretisation.summation' or use "
+                                 "statistical_equivalent() for the statistical model.")
+            if discretisation.get("heights_file"):
+                raise InputError("A pol-ind model takes its summits from a 'surface.topography' "
+                                 "or a 'discretisation.heights_file', not both. Remove one.")
+        else:
+            for key in _MAP_KEYS:
+                if key in surface:
+                    raise InputError(f"The 'surface.{key}' parameter of pol-ind only goes with a "
+                                     f"'surface.topography' (a height map). Remove it or add "
+                                     f"the map.")
+            if "asperity_radius" not in surface:
+                raise InputError("Missing key 'surface.asperity_radius' for a pol-ind model "
+                                 "(needed without a 'surface.topography').")
+        count = discretisation["elements"]
         if not 1 <= count <= MAX_ELEMENTS:
             raise InputError(f"The 'discretisation.elements' parameter of pol-ind must be in the "
                              f"range [1, {MAX_ELEMENTS}]. Got {count} instead.")
@@ -201,8 +247,9 @@ class PolInd(FrictionModel):
                 params["discretisation"]["summation"] != "direct":
             raise InputError("The 'discretisation.heights_file' parameter of pol-ind needs "
                              "summation = \"direct\". Got \"statistical\" instead.")
-        surface = params["surface"]
-        if params["discretisation"].get("heights_file"):
+        if mapped:
+            pass
+        elif params["discretisation"].get("heights_file"):
             for key in _SAMPLED_SURFACE_KEYS:
                 if key in surface:
                     raise InputError(f"The 'surface.{key}' parameter of pol-ind is not used with "
@@ -248,6 +295,32 @@ class PolInd(FrictionModel):
         """The modified Maxwell-slip element table at a normal load (MODELS.md 7.5)."""
         return self.contact(normal_load).elements
 
+    def statistical_equivalent(self) -> "PolInd":
+        """The same model on the Greenwood–Williamson surface of its height map.
+
+        For a model with a ``surface.topography``: a statistical-summation
+        Pol-Ind model whose surface has the map's summit density ``eta``,
+        radius ``1 / mean(kappa)`` and summit-height standard deviation, over
+        the same nominal area; every other key is the same.  Comparing the
+        two shows what the measured distribution of heights and radii does
+        that the Gaussian, one-radius idealisation does not.
+
+        Raises
+        ------
+        polind.InputError
+            If the model has no ``surface.topography``.
+        """
+        if self._params["surface"].get("topography") is None:
+            raise InputError("statistical_equivalent() needs a pol-ind model with a "
+                             "'surface.topography' (a measured height map). Got none.")
+        gw = _surface_of(self._params).greenwood_williamson
+        params = self.params
+        params["surface"] = dict(gw)
+        discretisation = params["discretisation"]
+        discretisation["summation"] = "statistical"
+        discretisation.pop("heights_file", None)
+        return type(self)(**params)
+
     def gms_parameters(self, normal_load=None) -> dict:
         """The GMS parameters (MODELS.md 5) this model is at a constant normal load (7.6).
 
@@ -276,7 +349,8 @@ class PolInd(FrictionModel):
         n = table.stiffness.shape[0]
         return {"element_force": np.zeros(n), "slip_direction": np.zeros(n),
                 "element_height": np.array(table.heights, dtype=np.float64),
-                "element_count": np.array(table.asperities, dtype=np.float64),
+                # Hertz weights n_j sqrt(R_j / R): the counts, unless summits have own radii.
+                "element_count": np.array(table.contact_weights, dtype=np.float64),
                 "table_load": np.array([build_load])}
 
     def check_state(self, state):

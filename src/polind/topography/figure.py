@@ -1,6 +1,6 @@
 """The figure of ``polind topography --plot``: a measured surface as a tribologist reads it.
 
-Four panels (:func:`topography_figure`):
+Five panels (:func:`topography_figure`):
 
 1. the levelled map with its summits marked;
 2. the summit-height histogram against the Gaussian of the same mean and
@@ -14,7 +14,13 @@ Four panels (:func:`topography_figure`):
    against the statistical sum of the Greenwood–Williamson equivalent,
    ``N(d) = (4/3) n E* sqrt(R) sigma_a^(3/2) F_{3/2}(d / sigma_a)`` with
    ``n`` the number of summits (the user guide, Pol-Ind model, summation
-   over the surface).
+   over the surface);
+5. the presliding virgin curve ``F(u) = sum_j min(k_j u, W_j)`` of the
+   Pol-Ind elements at a normal load (default 1 N, at most half of what the
+   map's summits carry), normalised by ``mu_s N``: the direct summation over
+   the measured summits (one element per summit in contact, ``k_j = 8 G*
+   sqrt(R_j delta_j)``, ``W_j = mu_s P_j``) against the 256-element table of
+   the Greenwood–Williamson equivalent (the user guide, measured surfaces).
 
 matplotlib is imported here only, on first use; nothing is written to disk
 (the command line writes :func:`figure_png`'s bytes with its safe writer).
@@ -28,7 +34,13 @@ import os
 
 import numpy as np
 
-__all__ = ["topography_figure", "figure_png", "direct_normal_load", "statistical_normal_load"]
+__all__ = ["topography_figure", "figure_png", "direct_normal_load", "statistical_normal_load",
+           "virgin_curves"]
+
+#: Normal load of the virgin-curve panel [N] (less if the map cannot carry twice it).
+VIRGIN_LOAD = 1.0
+#: mu_s of the virgin-curve panel (the default Pol-Ind value).
+VIRGIN_STATIC_COEFFICIENT = 0.15
 
 #: Most summits marked on the map; beyond it the highest ones are marked.
 MARKED_SUMMITS = 4000
@@ -90,14 +102,68 @@ def statistical_normal_load(summits, radius, height_std, separations, effective_
     return (4.0 / 3.0) * summits * effective_modulus * math.sqrt(radius) * height_std**1.5 * value
 
 
-def _default_effective_modulus() -> float:
-    """``E*`` of the default Pol-Ind material pair (steel on steel)."""
+def _default_moduli() -> tuple[float, float]:
+    """``(E*, G*)`` of the default Pol-Ind material pair (steel on steel)."""
     from polind.contact.builder import default_contact_parameters
     from polind.contact.materials import effective_moduli
 
     materials = default_contact_parameters()["materials"]
     (E1, E2), (nu1, nu2) = materials["youngs_modulus"], materials["poisson_ratio"]
-    return effective_moduli(E1, nu1, E2, nu2)[0]
+    return effective_moduli(E1, nu1, E2, nu2)
+
+
+def _default_effective_modulus() -> float:
+    """``E*`` of the default Pol-Ind material pair (steel on steel)."""
+    return _default_moduli()[0]
+
+
+def virgin_curves(surface, normal_load=VIRGIN_LOAD, static_coefficient=VIRGIN_STATIC_COEFFICIENT,
+                  moduli=None, points=200):
+    """Presliding virgin curves of a map's direct summation and of its statistical equivalent.
+
+    Parameters
+    ----------
+    surface : MeasuredSurface
+        The analysed map.
+    normal_load : float, optional
+        ``N`` [N]; lowered to half of what the map's summits carry if it is
+        more than that.
+    static_coefficient : float, optional
+        ``mu_s``.
+    moduli : pair of float, optional
+        ``(E*, G*)`` [Pa]; default steel on steel.
+    points : int, optional
+        Displacements on the curve.
+
+    Returns
+    -------
+    dict
+        ``displacement`` [m] (0 to 1.2 times the largest element slip
+        distance of the two), ``direct`` and ``statistical`` [N], the
+        ``normal_load`` used [N], and ``separation`` and ``real_area`` of the
+        direct contact [m, m^2].
+    """
+    from polind.contact.elements import element_table
+    from polind.contact.separation import solve_separation
+    from polind.contact.surface import DirectSurface, StatisticalSurface
+
+    E_star, G_star = _default_moduli() if moduli is None else moduli
+    direct = DirectSurface.from_topography(surface, E_star, G_star)
+    load = min(float(normal_load), 0.5 * direct.load_range[1])
+    gw = direct.greenwood_williamson
+    statistical = StatisticalSurface(gw["asperity_density"], gw["nominal_area"],
+                                     gw["asperity_radius"], gw["height_std"], E_star, G_star)
+    tables = []
+    for each, elements in ((direct, 0), (statistical, 256)):
+        d = solve_separation(each, load)
+        tables.append((d, element_table(each, d, static_coefficient, elements or 64,
+                                        normal_load=load)))
+    reach = max(float(np.max(table.breakaway_force / table.stiffness)) for _, table in tables)
+    u = np.linspace(0.0, 1.2 * reach, points)
+    (d_direct, direct_table), (_, gw_table) = tables
+    return {"displacement": u, "direct": direct_table.virgin_force(u),
+            "statistical": gw_table.virgin_force(u), "normal_load": load,
+            "separation": float(d_direct), "real_area": float(direct.real_area(d_direct))}
 
 
 def topography_figure(surface, effective_modulus=None):
@@ -122,13 +188,15 @@ def topography_figure(surface, effective_modulus=None):
 
     if effective_modulus is None:
         effective_modulus = _default_effective_modulus()
-    figure = Figure(figsize=(13, 10), layout="constrained")
+    figure = Figure(figsize=(19, 10), layout="constrained")
     FigureCanvasAgg(figure)
-    (map_axes, height_axes), (radius_axes, load_axes) = figure.subplots(2, 2)
-    _draw_map(figure, map_axes, surface)
-    _draw_heights(height_axes, surface)
-    _draw_radii(radius_axes, surface)
-    _draw_loads(load_axes, surface, effective_modulus)
+    axes = figure.subplot_mosaic([["map", "heights", "radii"], ["map", "loads", "virgin"]],
+                                 width_ratios=[1.1, 1, 1])
+    _draw_map(figure, axes["map"], surface)
+    _draw_heights(axes["heights"], surface)
+    _draw_radii(axes["radii"], surface)
+    _draw_loads(axes["loads"], surface, effective_modulus)
+    _draw_virgin(axes["virgin"], surface, effective_modulus)
     nx, ny = surface.grid
     dx, dy = surface.pixel_size
     cutoff = ("" if surface.short_cutoff is None
@@ -235,7 +303,7 @@ def _draw_radii(axes, surface):
     axes.axvline(surface.summit_radius_median * 1e6, color="black", ls="--", lw=1.2,
                  label=f"median = {surface.summit_radius_median * 1e6:.3g} µm")
     axes.set(xscale="log", xlabel="summit radius R [µm]", ylabel="summits",
-             title="Summit radii (central-difference curvature κ = -(h_xx + h_yy)/2)")
+             title="Summit radii, κ = -(h_xx + h_yy)/2 by central differences")
     axes.legend(loc="upper right", fontsize=8)
     axes.grid(alpha=0.3, which="both")
 
@@ -266,3 +334,22 @@ def _draw_loads(axes, surface, effective_modulus):
                    f"E* = {effective_modulus / 1e9:.4g} GPa)")
     axes.legend(loc="upper right", fontsize=8)
     axes.grid(alpha=0.3, which="both")
+
+
+def _draw_virgin(axes, surface, effective_modulus):
+    moduli = _default_moduli()
+    if effective_modulus != moduli[0]:
+        moduli = (effective_modulus, moduli[1] * effective_modulus / moduli[0])
+    curves = virgin_curves(surface, moduli=moduli)
+    scale = VIRGIN_STATIC_COEFFICIENT * curves["normal_load"]
+    u_nm = curves["displacement"] * 1e9
+    axes.plot(u_nm, curves["direct"] / scale, color="#1f77b4", lw=2.0,
+              label="direct summation over the measured summits")
+    axes.plot(u_nm, curves["statistical"] / scale, color="#d62728", lw=1.6, ls="--",
+              label="Greenwood–Williamson equivalent (256 elements)")
+    axes.set(xlabel="tangential displacement from rest u [nm]", ylabel="F / (μs N)",
+             ylim=(0.0, 1.05),
+             title=f"Presliding virgin curve at N = {curves['normal_load']:.3g} N, "
+                   f"μs = {VIRGIN_STATIC_COEFFICIENT:g}")
+    axes.legend(loc="lower right", fontsize=8)
+    axes.grid(alpha=0.3)
