@@ -1,0 +1,390 @@
+"""The Pol-Ind model on a measured height map (MODELS.md 7.8, direct summation with own radii).
+
+References, each independent of the code under test:
+- the summits and radii of :func:`polind.topography.analyse` (themselves
+  tested against planted caps and hand-checked grids in test_topography.py);
+- plain Python sums of Hertz's law over those summits, each with its own
+  radius, and ``scipy.optimize.brentq`` for the separation;
+- the plain Maxwell-slip oracle of ``tests/oracles.py``;
+- a plain stepper of the time-varying-load rules written here (elements fixed
+  in height, the separation re-solved by ``brentq`` on the plain sum).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy import optimize
+
+import oracles
+import polind
+from polind import cli
+from polind.contact.surface import DirectSurface, StatisticalSurface
+from polind.models.pol_ind import default_table
+from polind.topography import HeightMap, analyse, load_measured_surface
+from polind.topography.figure import virgin_curves
+from test_topography import gaussian_field
+
+ROOT = Path(__file__).resolve().parents[1]
+_DATA = [ROOT.parent / "shared" / "data" / "topography", Path("/work/shared/data/topography")]
+DATA = next((path for path in _DATA if path.is_dir()), _DATA[-1])
+needs_data = pytest.mark.skipif(not DATA.is_dir(), reason=f"shared data not found at {DATA}")
+
+PIXEL = (0.5e-6, 0.5e-6)
+E1, NU = 210e9, 0.3
+E_STAR = 1.0 / (2 * (1 - NU**2) / E1)
+G_STAR = 1.0 / (2 * (2 - NU) * 2 * (1 + NU) / E1)      # 1/G* = sum (2 - nu)/G, G = E/(2(1 + nu))
+
+
+@pytest.fixture(scope="module")
+def rough_map(tmp_path_factory):
+    """A 192 x 160 Gaussian random surface (rms 50 nm), as a .npy grid and its analysis."""
+    heights, _, _ = gaussian_field(192, PIXEL, 2.5e-6, 50e-9, seed=11)
+    heights = heights[:, :160]
+    folder = tmp_path_factory.mktemp("map")
+    np.save(folder / "rough.npy", heights)
+    return folder / "rough.npy", analyse(HeightMap.from_array(heights, PIXEL, "rough.npy"))
+
+
+def map_model(path, load=0.05, nominal_area=None, **changes):
+    table = default_table()
+    table["normal_load"] = load
+    table["surface"] = {"topography": str(path), "pixel_size": list(PIXEL)}
+    if nominal_area is not None:
+        table["surface"]["nominal_area"] = nominal_area
+    table["discretisation"] = {}
+    table.update(changes)
+    return polind.model_from_dict({"model": table})
+
+
+def plain_load(d, heights, radii, weight=1.0):
+    """N(d) = sum over summits above d of weight (4/3) E* sqrt(R_i) (h_i - d)^(3/2)."""
+    delta = heights - d
+    touching = delta > 0
+    return weight * 4 / 3 * E_STAR * float(np.sum(np.sqrt(radii[touching])
+                                                   * delta[touching] ** 1.5))
+
+
+def plain_separation(load, heights, radii, weight=1.0):
+    top = heights.max()
+    return optimize.brentq(lambda d: plain_load(d, heights, radii, weight) - load,
+                           heights.min(), top, xtol=1e-24, rtol=4 * np.finfo(float).eps)
+
+
+def plain_elements(measured, load, weight=1.0, mu_s=0.15):
+    """Heights, k_i and W_i of the summits in contact at ``load``, from the summits themselves."""
+    heights = measured.summit_heights - measured.summit_heights.mean()
+    radii = measured.summit_radii
+    d = plain_separation(load, heights, radii, weight)
+    touching = heights > d
+    delta = heights[touching] - d
+    stiffness = weight * 8 * G_STAR * np.sqrt(radii[touching] * delta)
+    breakaway = weight * mu_s * 4 / 3 * E_STAR * np.sqrt(radii[touching]) * delta ** 1.5
+    order = np.argsort(heights[touching], kind="stable")
+    return d, heights[touching][order], radii[touching][order], stiffness[order], breakaway[order]
+
+
+# --- the surface: per-summit radii ----------------------------------------------------------
+
+def test_a_direct_surface_with_own_radii_sums_hertz_per_summit():
+    rng = np.random.default_rng(5)
+    heights = rng.normal(0.0, 1e-7, 300)
+    heights[10] = heights[20]                      # equal heights with different radii merge
+    radii = rng.uniform(1e-6, 2e-5, 300)
+    counts = rng.uniform(0.5, 3.0, 300)
+    surface = DirectSurface(heights, 5e-6, E_STAR, G_STAR, counts=counts, radii=radii)
+    assert surface.heights.size == 299
+    for d in (-2e-7, 0.0, 1e-7):
+        delta = heights - d
+        on = delta > 0
+        assert float(surface.normal_load(d)) == pytest.approx(
+            4 / 3 * E_STAR * np.sum(counts[on] * np.sqrt(radii[on]) * delta[on] ** 1.5), rel=1e-12)
+        assert float(surface.normal_load_slope(d)) == pytest.approx(
+            -2 * E_STAR * np.sum(counts[on] * np.sqrt(radii[on] * delta[on])), rel=1e-12)
+        assert float(surface.contacts(d)) == pytest.approx(np.sum(counts[on]), rel=1e-12)
+        assert float(surface.real_area(d)) == pytest.approx(
+            math.pi * np.sum(counts[on] * radii[on] * delta[on]), rel=1e-12)
+
+
+def test_the_separation_of_a_map_carries_the_load_to_1e_10(rough_map):
+    path, measured = rough_map
+    heights = measured.summit_heights - measured.summit_heights.mean()
+    for load in (1e-4, 3e-3, 0.05, 0.4):
+        contact = map_model(path, load=load).contact()
+        assert plain_load(contact.separation, heights, measured.summit_radii) \
+            == pytest.approx(load, rel=1e-10)
+        assert contact.separation == pytest.approx(
+            plain_separation(load, heights, measured.summit_radii), rel=1e-9, abs=1e-18)
+
+
+def test_nominal_area_makes_each_summit_stand_for_a0_over_a_map(rough_map):
+    path, measured = rough_map
+    scale = 40.0
+    model = map_model(path, load=0.05 * scale, nominal_area=scale * measured.nominal_area)
+    contact = model.contact()
+    reference = map_model(path, load=0.05).contact()
+    # Same pressure, same separation; every count and force scaled by A0 / A_map.
+    assert contact.separation == pytest.approx(reference.separation, rel=1e-9, abs=1e-18)
+    assert contact.contacts == pytest.approx(scale * reference.contacts, rel=1e-12)
+    assert contact.real_area == pytest.approx(scale * reference.real_area, rel=1e-9)
+    np.testing.assert_allclose(contact.elements.stiffness, scale * reference.elements.stiffness,
+                               rtol=1e-8)
+
+
+# --- the elements and the model's properties ------------------------------------------------
+
+def test_elements_are_the_summits_in_contact_with_their_own_radii(rough_map):
+    path, measured = rough_map
+    table = map_model(path).element_table()
+    d, heights, radii, stiffness, breakaway = plain_elements(measured, 0.05)
+    assert len(table) == heights.size > 20
+    np.testing.assert_allclose(table.heights, heights, rtol=0, atol=1e-20)
+    np.testing.assert_allclose(table.stiffness, stiffness, rtol=1e-8)
+    np.testing.assert_allclose(table.breakaway_force, breakaway, rtol=1e-8, atol=1e-14)
+    np.testing.assert_array_equal(table.asperities, np.ones(heights.size))
+    # Amontons' law: the elements' break-away forces sum to mu_s N.
+    assert table.breakaway_force.sum() == pytest.approx(0.15 * 0.05, rel=1e-10)
+
+
+def test_the_virgin_curve_of_a_map_model_is_the_sum_of_elastic_slip_summits(rough_map):
+    path, measured = rough_map
+    model = map_model(path, attraction=1e14)
+    _, _, _, stiffness, breakaway = plain_elements(measured, 0.05)
+    u = np.linspace(0.0, 1.3 * np.max(breakaway / stiffness), 801)
+    want = np.array([np.sum(np.minimum(stiffness * ui, breakaway)) for ui in u])
+    got = polind.simulate(model, u / 1e-9, x=u).force             # |v| = 1e-9 m/s << vs
+    np.testing.assert_allclose(got, want, rtol=1e-7, atol=1e-9 * 0.0075)
+    curves = virgin_curves(measured, normal_load=0.05, moduli=(E_STAR, G_STAR), points=101)
+    want = np.array([np.sum(np.minimum(stiffness * ui, breakaway))
+                     for ui in curves["displacement"]])
+    np.testing.assert_allclose(curves["direct"], want, rtol=1e-8, atol=1e-12)
+
+
+def test_presliding_on_a_map_is_the_maxwell_slip_model_of_its_summits(rough_map):
+    path, measured = rough_map
+    model = map_model(path, attraction=1e14)
+    _, _, _, stiffness, breakaway = plain_elements(measured, 0.05)
+    scale = 0.8 * np.max(breakaway / stiffness)
+    corners = scale * np.array([0.0, 1.0, -0.6, 0.5, -0.2, 0.3, -0.6, 0.8, -1.0, 1.0])
+    x = np.concatenate([np.linspace(a, b, 200, endpoint=False)
+                        for a, b in zip(corners[:-1], corners[1:])] + [corners[-1:]])
+    t = np.arange(x.size) * 1.0                                   # |v| ~ 1e-10 m/s
+    got = polind.simulate(model, t, x=x).force
+    want = oracles.simulate({"type": "maxwell-slip", "stiffness": stiffness.tolist(),
+                             "breakaway_force": breakaway.tolist()}, t, x=x).force
+    np.testing.assert_allclose(got, want, rtol=1e-7, atol=1e-9 * 0.0075)
+
+
+@pytest.mark.parametrize("load", [2e-3, 0.05, 0.3])
+def test_sliding_friction_on_a_map_follows_amontons(rough_map, load):
+    path, _ = rough_map
+    model = map_model(path, load=load, viscous_coefficient=0.0)
+    t = np.linspace(0.0, 1.0, 1001)
+    for velocity, mu in ((1e-1, 0.10), (-1e-1, 0.10)):
+        force = polind.simulate(model, t, v=np.full_like(t, velocity)).force
+        assert force[-1] == pytest.approx(math.copysign(mu * load, velocity), rel=1e-9)
+
+
+def reference_varying_load(measured, t, x, load, mu_s=0.15, mu_k=0.10, vs=1e-3, c=1e4):
+    """Plain stepper: elements of the summits touching at max load, d(t) by brentq."""
+    heights = measured.summit_heights - measured.summit_heights.mean()
+    radii = measured.summit_radii
+    _, el_h, el_r, _, _ = plain_elements(measured, float(load.max()))
+    force_el = np.zeros(el_h.size)
+    slipping = np.zeros(el_h.size)
+    in_contact = np.ones(el_h.size, dtype=bool)
+    out = np.zeros(t.size)
+    for k in range(t.size):
+        d = plain_separation(load[k], heights, radii)
+        delta = np.maximum(el_h - d, 0.0)
+        breakaway = np.sqrt(el_r) * delta ** 1.5
+        stiffness = 8 * G_STAR * np.sqrt(el_r * delta)
+        alpha = breakaway / breakaway.sum()
+        capacity = alpha * mu_s * load[k]
+        now = delta > 0
+        force_el = np.clip(force_el, -capacity, capacity)
+        slipping[~now | (now & ~in_contact)] = 0.0
+        in_contact = now
+        if k > 0:
+            h = t[k] - t[k - 1]
+            v = (x[k] - x[k - 1]) / h
+            if v != 0:
+                g = load[k] * (mu_k + (mu_s - mu_k) * math.exp(-(v / vs) ** 2))
+                direction = np.sign(v)
+                for j in range(el_h.size):
+                    if alpha[j] == 0.0:
+                        force_el[j] = 0.0
+                        continue
+                    target = direction * alpha[j] * g
+                    if slipping[j] != direction:
+                        slipping[j] = 0.0
+                    if slipping[j] == 0.0 and direction * force_el[j] < alpha[j] * g:
+                        trial = force_el[j] + stiffness[j] * v * h
+                        if direction * trial >= alpha[j] * g:
+                            force_el[j], slipping[j] = target, direction
+                        else:
+                            force_el[j] = trial
+                    else:
+                        slipping[j] = direction
+                        force_el[j] = target + (force_el[j] - target) * math.exp(
+                            -c * h / (alpha[j] * g))
+        out[k] = force_el.sum()
+    return out
+
+
+def test_a_time_varying_load_on_a_map_follows_the_rules(rough_map):
+    path, measured = rough_map
+    model = map_model(path, load=0.05)
+    t = np.linspace(0.0, 0.2, 161)
+    x = 2e-8 * np.sin(2 * np.pi * 10 * t) + 2e-3 * t
+    load = 0.05 + 0.03 * np.sin(2 * np.pi * 7 * t) ** 2 - 0.02 * (t > 0.1)
+    got = polind.simulate(model, t, x=x, normal_load=load).force
+    want = reference_varying_load(measured, t, x, load)
+    np.testing.assert_allclose(got, want, rtol=1e-7, atol=1e-8 * 0.012)
+
+
+# --- the statistical equivalent -------------------------------------------------------------
+
+def test_the_statistical_equivalent_has_the_maps_greenwood_williamson_keys(rough_map):
+    path, measured = rough_map
+    model = map_model(path)
+    twin = model.statistical_equivalent()
+    surface = twin.params["surface"]
+    assert surface["asperity_density"] == pytest.approx(measured.summits / measured.nominal_area)
+    assert surface["asperity_radius"] == pytest.approx(1 / np.mean(measured.summit_curvatures))
+    assert surface["height_std"] == pytest.approx(np.std(measured.summit_heights))
+    assert surface["nominal_area"] == pytest.approx(measured.nominal_area)
+    assert twin.params["discretisation"]["summation"] == "statistical"
+    assert twin.contact().surface.kind == "statistical"
+    with pytest.raises(polind.InputError, match="needs a pol-ind model with a 'surface.topography'"):
+        twin.statistical_equivalent()
+
+
+def test_direct_and_statistical_loads_agree_within_sampling_error_on_a_gaussian_surface():
+    # The direct sum over the summit heights of a Gaussian random surface with
+    # one radius 1/mean(kappa) against its Greenwood-Williamson equivalent:
+    # equal within the sampling error of a sum over ~2400 summits.  With each
+    # summit's own radius the direct load is lower: on a Gaussian surface the
+    # higher summits are the sharper ones (Nayak 1971), which GW's single
+    # radius ignores.
+    pixel = (1e-6, 0.8e-6)
+    heights, _, _ = gaussian_field(1024, pixel, 8e-6, 1e-6, seed=3)
+    measured = analyse(HeightMap.from_array(heights, pixel, "gaussian"))
+    direct = DirectSurface.from_topography(measured, E_STAR, G_STAR)
+    gw = direct.greenwood_williamson
+    statistical = StatisticalSurface(gw["asperity_density"], gw["nominal_area"],
+                                     gw["asperity_radius"], gw["height_std"], E_STAR, G_STAR)
+    one_radius = DirectSurface(direct.heights, gw["asperity_radius"], E_STAR, G_STAR)
+    sigma = gw["height_std"]
+    for d in np.array([-1.0, 0.0, 1.0]) * sigma:
+        delta = np.maximum(direct.heights - d, 0.0)
+        per_summit = 4 / 3 * E_STAR * math.sqrt(gw["asperity_radius"]) * delta ** 1.5
+        standard_error = math.sqrt(per_summit.size * per_summit.var())
+        assert abs(float(one_radius.normal_load(d)) - float(statistical.normal_load(d))) \
+            < 3 * standard_error
+        assert float(direct.normal_load(d)) < float(one_radius.normal_load(d))
+
+
+# --- model files: keys, paths, errors -------------------------------------------------------
+
+def test_a_model_file_reads_its_map_relative_to_itself(tmp_path, rough_map):
+    path, measured = rough_map
+    folder = tmp_path / "models"
+    folder.mkdir()
+    (folder / "scan.npy").write_bytes(Path(path).read_bytes())
+    (folder / "m.toml").write_text(
+        '[model]\ntype = "pol-ind"\nnormal_load = 0.05\nstatic_coefficient = 0.15\n'
+        'kinetic_coefficient = 0.1\nstribeck_velocity = 1e-3\nattraction = 1e4\n'
+        '[model.surface]\ntopography = "scan.npy"\npixel_size = [5e-7, 5e-7]\n'
+        '[model.materials]\nyoungs_modulus = [210e9, 210e9]\npoisson_ratio = [0.3, 0.3]\n')
+    model = polind.load_model(folder / "m.toml")
+    assert model.params["surface"]["topography"] == str(folder / "scan.npy")
+    assert model.contact().surface.asperity_count == measured.summits
+
+
+@pytest.mark.parametrize("surface, discretisation, message", [
+    ({"asperity_radius": 1e-5}, {}, "'surface.asperity_radius' parameter of pol-ind is not used "
+                                    "with a 'surface.topography'"),
+    ({"height_std": 1e-7}, {}, "'surface.height_std' .* not used with a 'surface.topography'"),
+    ({"asperity_density": 1e10}, {}, "'surface.asperity_density' .* not used"),
+    ({}, {"summation": "statistical"}, "needs summation = \"direct\""),
+    ({}, {"summation": "direct", "heights_file": "h.csv"}, "not both"),
+])
+def test_keys_a_map_replaces_are_refused_with_the_reason(rough_map, surface, discretisation,
+                                                         message):
+    path, _ = rough_map
+    table = default_table()
+    table["surface"] = {"topography": str(path), "pixel_size": list(PIXEL), **surface}
+    table["discretisation"] = discretisation
+    with pytest.raises(polind.InputError, match=message):
+        polind.model_from_dict({"model": table})
+
+
+def test_map_keys_without_a_map_are_refused():
+    table = default_table()
+    table["surface"]["pixel_size"] = [1e-6, 1e-6]
+    with pytest.raises(polind.InputError, match="'surface.pixel_size' .* only goes with a "
+                                                "'surface.topography'"):
+        polind.model_from_dict({"model": table})
+    table = default_table()
+    del table["surface"]["asperity_radius"]
+    with pytest.raises(polind.InputError, match="Missing key 'surface.asperity_radius'"):
+        polind.model_from_dict({"model": table})
+
+
+def test_a_load_the_maps_summits_cannot_carry_is_refused(rough_map):
+    path, measured = rough_map
+    heights = measured.summit_heights - measured.summit_heights.mean()
+    most = plain_load(heights.min(), heights, measured.summit_radii)
+    with pytest.raises(polind.InputError, match=r"more than the measured surface '.*rough.npy' "
+                                                r"can carry: every one of its \d+ summits"):
+        map_model(path, load=1.01 * most).contact()
+    # Just below it the flat is just above the lowest summit: all the others touch.
+    assert map_model(path, load=0.99 * most).contact().contacts == measured.summits - 1
+
+
+def run(capsys, *args):
+    """``polind args`` in this process: (exit status, stdout, stderr)."""
+    with pytest.raises(SystemExit) as exit_info:
+        cli.main([str(arg) for arg in args])
+    out, err = capsys.readouterr()
+    return exit_info.value.code, out, err
+
+
+def test_cli_surface_of_a_map_model_and_its_errors(capsys, tmp_path, rough_map):
+    path, measured = rough_map
+    (tmp_path / "m.toml").write_text(
+        '[model]\ntype = "pol-ind"\nnormal_load = 0.05\nstatic_coefficient = 0.15\n'
+        'kinetic_coefficient = 0.1\nstribeck_velocity = 1e-3\nattraction = 1e4\n'
+        f'[model.surface]\ntopography = "{path}"\npixel_size = [5e-7, 5e-7]\n'
+        '[model.materials]\nyoungs_modulus = [210e9, 210e9]\npoisson_ratio = [0.3, 0.3]\n')
+    code, out, err = run(capsys, "surface", str(tmp_path / "m.toml"))
+    assert code == 0, err
+    assert "direct summation" in out
+    (tmp_path / "bad.toml").write_text(
+        (tmp_path / "m.toml").read_text().replace("normal_load = 0.05", "normal_load = 1e6"))
+    code, out, err = run(capsys, "surface", str(tmp_path / "bad.toml"))
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "rough.npy" in err
+    (tmp_path / "nopixel.toml").write_text(
+        (tmp_path / "m.toml").read_text().replace("pixel_size = [5e-7, 5e-7]\n", ""))
+    code, out, err = run(capsys, "surface", str(tmp_path / "nopixel.toml"))
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "rough.npy" in err
+
+
+@needs_data
+def test_the_shared_x3p_map_gives_a_pol_ind_model():
+    model = map_model(DATA / "x3p-2.x3p", load=1.0)
+    model = polind.model_from_dict({"model": {**model.params, "type": "pol-ind",
+                                              "surface": {"topography":
+                                                          str(DATA / "x3p-2.x3p")}}})
+    measured = load_measured_surface(DATA / "x3p-2.x3p")
+    contact = model.contact()
+    heights = measured.summit_heights - measured.summit_heights.mean()
+    assert plain_load(contact.separation, heights, measured.summit_radii) \
+        == pytest.approx(1.0, rel=1e-10)
+    assert contact.elements.breakaway_force.sum() == pytest.approx(0.15, rel=1e-10)
+    twin = model.statistical_equivalent().contact()
+    assert twin.elements.breakaway_force.sum() == pytest.approx(0.15, rel=1e-10)
