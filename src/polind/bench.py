@@ -23,6 +23,7 @@ under a varying against a constant normal load.
 from __future__ import annotations
 
 import math
+import os
 import time
 from dataclasses import dataclass
 
@@ -688,3 +689,57 @@ def format_ratios(rows):
         lines.append(f"{r.name:<58}{r.value:>9.3g}{target:>10}{'met' if r.met else 'NOT':>6}"
                      f"  {r.detail}")
     return "\n".join(lines)
+
+
+# --- measured surfaces -------------------------------------------------------------------
+
+@dataclass
+class TopographyRow:
+    size: int                # points along each side of the map
+    summits: int
+    analyse_seconds: float   # read (.npy), levelled, summits and curvatures
+    model_seconds: float     # Pol-Ind on the map: surface built, separation, element table
+    elements: int            # elements of that table (summits in contact)
+
+
+def _random_map(size, seed=0):
+    """A tilted Gaussian random surface (Gaussian autocorrelation, 8 pixels; rms 0.5 µm) [m]."""
+    rng = np.random.default_rng(seed)
+    q = 2.0 * np.pi * np.fft.fftfreq(size)
+    q_half = 2.0 * np.pi * np.fft.rfftfreq(size)
+    filter_ = np.exp(-(q[:, None] ** 2 + q_half[None, :] ** 2) * 8.0).astype(np.float32)
+    spectrum = np.fft.rfft2(rng.standard_normal((size, size), dtype=np.float32)) * filter_
+    heights = np.fft.irfft2(spectrum, s=(size, size)).astype(np.float64)
+    heights *= 0.5e-6 / heights.std()
+    index = np.arange(size, dtype=np.float64) * 0.5e-6
+    return heights + 1e-3 * index[:, None] - 2e-3 * index[None, :]
+
+
+def run_topography(size=4096, normal_load=1.0):
+    """Time a ``size`` x ``size`` height map from file to summits, and a Pol-Ind model on it.
+
+    The map (a NumPy Gaussian random surface, pixel 0.5 µm) is written as
+    ``.npy`` to a temporary directory; the analysis (reading, levelling,
+    summits, curvatures) is timed once, cold, as ``polind topography`` runs
+    it; then a Pol-Ind model with ``[model.surface] topography`` on the same
+    file is built at ``normal_load`` (the map read and analysed again, the
+    direct surface sorted, the separation solved, the element table built).
+    """
+    import tempfile
+
+    from polind.models.pol_ind import default_table
+    from polind.topography import load_measured_surface
+    from polind.models import model_from_dict
+
+    with tempfile.TemporaryDirectory() as folder:
+        path = os.path.join(folder, "map.npy")
+        np.save(path, _random_map(size))
+        start = time.perf_counter()
+        measured = load_measured_surface(path, pixel_size=(0.5e-6, 0.5e-6))
+        middle = time.perf_counter()
+        table = default_table()
+        table.update(normal_load=normal_load, discretisation={},
+                     surface={"topography": path, "pixel_size": [0.5e-6, 0.5e-6]})
+        elements = len(model_from_dict({"model": table}).element_table())
+        end = time.perf_counter()
+    return TopographyRow(size, measured.summits, middle - start, end - middle, elements)

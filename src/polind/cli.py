@@ -370,6 +370,11 @@ def bench(models):
                    f"{separation.evaluations} load evaluations, |N(d) - N|/N = "
                    f"{separation.relative_residual:.1e} (building the sorted surface: "
                    f"{separation.build_seconds * 1e3:.0f} ms, once per surface)")
+        surface = benchmark.run_topography()
+        click.echo(f"height map {surface.size} x {surface.size} (.npy) read, levelled and "
+                   f"reduced to {surface.summits:,} summits: {surface.analyse_seconds:.2f} s "
+                   f"(target 10 s); a pol-ind model on it at 1 N ({surface.elements} summits in "
+                   f"contact): {surface.model_seconds:.2f} s")
     if not models:
         click.echo("\n" + benchmark.format_ratios([]))
         benchmark.run_ratios(progress=lambda row: click.echo(
