@@ -13,6 +13,7 @@ References, each independent of the code under test:
 from __future__ import annotations
 
 import math
+import os
 from pathlib import Path
 
 import numpy as np
@@ -388,3 +389,38 @@ def test_the_shared_x3p_map_gives_a_pol_ind_model():
     assert contact.elements.breakaway_force.sum() == pytest.approx(0.15, rel=1e-10)
     twin = model.statistical_equivalent().contact()
     assert twin.elements.breakaway_force.sum() == pytest.approx(0.15, rel=1e-10)
+
+
+def test_short_cutoff_reaches_the_summits_and_a_changed_map_is_read_again(tmp_path, rough_map):
+    path, _ = rough_map
+    copy = tmp_path / "copy.npy"
+    copy.write_bytes(Path(path).read_bytes())
+    table = default_table()
+    table.update(normal_load=0.05, discretisation={})
+    table["surface"] = {"topography": str(copy), "pixel_size": list(PIXEL), "short_cutoff": 4e-6}
+    model = polind.model_from_dict({"model": table})
+    smooth = load_measured_surface(copy, PIXEL, short_cutoff=4e-6)
+    assert model.contact().surface.asperity_count == smooth.summits
+    assert smooth.summits < load_measured_surface(copy, PIXEL).summits
+    # The same model keys on a rewritten file: the surface is built anew, not taken
+    # from the cache of built surfaces.
+    heights = np.load(copy)
+    np.save(copy, heights[:, :100])
+    os.utime(copy, ns=(1, 1))
+    again = polind.model_from_dict({"model": table})
+    assert again.contact().surface.asperity_count \
+        == load_measured_surface(copy, PIXEL, short_cutoff=4e-6).summits
+
+
+def test_a_fit_on_a_map_model_frees_only_friction_keys(rough_map):
+    path, _ = rough_map
+    truth = map_model(path)
+    t = np.linspace(0.0, 1.0, 201)
+    x = 1e-8 * np.sin(6 * t)
+    data = {"t": t, "x": x, "F": polind.simulate(truth, t, x=x).force}
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fit = polind.identify(truth.with_params(static_coefficient=0.2), data)
+    assert not any(key.startswith("surface.") for key in fit.free)
+    assert fit.model.params["static_coefficient"] == pytest.approx(0.15, rel=1e-3)
