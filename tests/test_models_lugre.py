@@ -137,3 +137,43 @@ def test_drifts_under_a_force_cycle_below_breakaway():
     # the same forces, ever further along: a constant advance per cycle
     np.testing.assert_allclose(np.diff(x[tops]), advance, rtol=1e-9)
     assert advance > 1e-3 * (f2 - f1) / S0
+
+
+# --- simulate's blocked two-pass loop (kernels.single.lugre_motion) ---------------
+
+@pytest.mark.parametrize("exponent", [1.0, 2.0, 2.5])
+@pytest.mark.parametrize("shape", ["exponential", "rational"])
+def test_long_random_motion_against_oracle_for_every_exponent(shape, exponent):
+    # 2600 samples: several blocks of the vectorised loop, a partial last one.
+    t, x = random_walk(2600, 5e-6, seed=3, dwell=0.1)
+    model = lugre(shape, stribeck_exponent=exponent)
+    res = run(model, t, x=x)
+    ref = oracles.simulate(model, t, x=x)
+    assert_close(res.force, ref.force, REL, FS, f"{shape}, exponent {exponent}")
+
+
+@pytest.mark.parametrize("where", [1, 2, 700, 1500, 2599])
+@pytest.mark.parametrize("what", ["x nan", "x inf", "t nan", "t repeated", "overflow"])
+def test_a_bad_sample_in_any_block_is_named(where, what):
+    import polind
+
+    t, x = random_walk(2600, 5e-6, seed=4)
+    t, x = t.copy(), x.copy()
+    if what == "x nan":
+        x[where] = math.nan
+        message = f"'x' samples must be finite. Got nan at index {where}"
+    elif what == "x inf":
+        x[where] = math.inf
+        message = f"'x' samples must be finite. Got inf at index {where}"
+    elif what == "t nan":
+        t[where] = math.nan
+        message = f"'t' samples must be finite. Got nan at index {where}"
+    elif what == "t repeated":
+        t[where] = t[where - 1]
+        message = f"'t' samples must be strictly increasing. Got t[{where}]"
+    else:
+        x[where] = 1e308
+        x[where - 1] = -1e308
+        message = "overflow"
+    with pytest.raises(polind.InputError, match=message.replace("[", r"\[").replace("]", r"\]")):
+        polind.simulate(polind.model_from_dict({"model": lugre()}), t, x=x)

@@ -36,10 +36,17 @@ import math
 from polind.kernels import jit
 
 # Codes of :func:`check_times` and :func:`cut_path` (with the index of the first bad sample).
+#: Code: every sample is valid.
 VALID = 0
-NOT_FINITE = 1         # a sample that is not finite
-NOT_INCREASING = 2     # t[k] <= t[k - 1]
-OVERFLOW = 3           # finite samples, non-finite step velocities or positions
+#: Code: a sample that is not finite.
+NOT_FINITE = 1
+#: Code: ``t[k] <= t[k - 1]``.
+NOT_INCREASING = 2
+#: Code: finite samples, but non-finite step velocities or positions.
+OVERFLOW = 3
+#: Code of :func:`run_motion`: a sample time that is not finite or not after its
+#: predecessor (the caller names which, as :func:`check_times` would).
+BAD_TIME = 4
 
 
 @jit(inline="always")
@@ -103,22 +110,30 @@ def motion_step(by_velocity, t0, t1, m0, m1, x0):
 
 
 @jit(inline="always")
-def run_motion(step, force, scalars, table, state, t, motion, by_velocity, start_position,
-               start_velocity, continuing, position, velocity, loads, constant_load, lo, hi,
-               first, out_force):
-    """:func:`cut_path` and :func:`run_steps` in one pass over the samples ``lo .. hi - 1``.
+def run_motion(step, force, scalars, table, state, source_t, source_motion, t, motion,
+               by_velocity, start_position, start_velocity, continuing, position, velocity,
+               loads, constant_load, lo, hi, first, out_force):
+    """Copy, check and cut the samples ``lo .. hi - 1`` and run the model over them, in one pass.
 
-    The loop of :func:`polind.simulate`: it reads the sample times ``t`` and
-    the ``motion`` (positions, or velocities with ``by_velocity``) and fills
+    The loop of :func:`polind.simulate`: it reads the sample times
+    ``source_t`` and the ``source_motion`` (positions, or velocities with
+    ``by_velocity``), copies them into ``t`` and ``motion`` (which may be the
+    same arrays as the sources), checks the times (finite, increasing) and
+    the motion as :func:`check_times` and :func:`cut_path` would, and fills
     the other of ``position``/``velocity`` and ``out_force``, with no step
-    arrays in between.  ``start_position``, ``start_velocity`` and
-    ``continuing`` are :func:`cut_path`'s, used at sample 0.  Returns
-    ``(code, index)`` as :func:`cut_path` does for the first bad sample it
-    meets (a non-finite motion sample, or a non-finite step velocity or
-    position), having computed the samples before it; ``t`` must have been
-    checked (:func:`check_times`).
+    arrays and no separate copying or checking pass in between.
+    ``start_position``, ``start_velocity`` and ``continuing`` are
+    :func:`cut_path`'s, used at sample 0.  Returns ``(code, index)`` for the
+    first bad sample it meets: :data:`BAD_TIME` for a time that is not
+    finite or not after its predecessor, else :func:`cut_path`'s codes for
+    the motion; the caller re-checks the whole input to name the error as a
+    full check would.
     """
     if first:
+        t[lo] = source_t[lo]
+        motion[lo] = source_motion[lo]
+        if not finite(t[lo]):
+            return BAD_TIME, lo
         if by_velocity:
             if lo == 0:
                 position[0] = start_position
@@ -131,8 +146,11 @@ def run_motion(step, force, scalars, table, state, t, motion, by_velocity, start
             if lo == 0 and continuing:
                 sample_velocity = start_velocity
             elif lo + 1 < hi:
-                h, dx, sample_velocity, x1, code = motion_step(False, t[lo], t[lo + 1],
-                                                               motion[lo], motion[lo + 1], 0.0)
+                t1 = source_t[lo + 1]
+                if not (t1 > t[lo] and t1 < math.inf):
+                    return BAD_TIME, lo + 1
+                h, dx, sample_velocity, x1, code = motion_step(False, t[lo], t1, motion[lo],
+                                                               source_motion[lo + 1], 0.0)
                 if code != VALID:
                     return code, lo + 1
             else:
@@ -141,13 +159,21 @@ def run_motion(step, force, scalars, table, state, t, motion, by_velocity, start
         out_force[lo] = force(scalars, table, state, sample_velocity,
                               sample_load(loads, constant_load, lo))
     for k in range(lo + 1, hi):
-        h, dx, w, x1, code = motion_step(by_velocity, t[k - 1], t[k], motion[k - 1], motion[k],
+        t0 = source_t[k - 1]
+        t1 = source_t[k]
+        m1 = source_motion[k]
+        t[k] = t1
+        motion[k] = m1
+        # NaN fails the first test, +inf the second; t0 was checked at its own sample.
+        if not (t1 > t0 and t1 < math.inf):
+            return BAD_TIME, k
+        h, dx, w, x1, code = motion_step(by_velocity, t0, t1, source_motion[k - 1], m1,
                                          position[k - 1])
         if code != VALID:
             return code, k
         if by_velocity:
             position[k] = x1
-            sample_velocity = motion[k]
+            sample_velocity = m1
         else:
             velocity[k] = w
             sample_velocity = w
@@ -157,11 +183,12 @@ def run_motion(step, force, scalars, table, state, t, motion, by_velocity, start
 
 
 @jit(cache=False)
-def run_motion_any(step, force, scalars, table, state, t, motion, by_velocity, start_position,
-                   start_velocity, continuing, position, velocity, loads, constant_load, lo, hi,
-                   first, out_force):
+def run_motion_any(step, force, scalars, table, state, source_t, source_motion, t, motion,
+                   by_velocity, start_position, start_velocity, continuing, position, velocity,
+                   loads, constant_load, lo, hi, first, out_force):
     """:func:`run_motion` for any model's functions (passed as arguments, not inlined)."""
-    return run_motion(step, force, scalars, table, state, t, motion, by_velocity,
+    return run_motion(step, force, scalars, table, state, source_t, source_motion, t, motion,
+                      by_velocity,
                       start_position, start_velocity, continuing, position, velocity, loads,
                       constant_load, lo, hi, first, out_force)
 

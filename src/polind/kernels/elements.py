@@ -1,4 +1,4 @@
-"""The element machinery of the Maxwell-slip family (MODELS.md 4, 5, 6, 7.5-7.6).
+"""The element machinery of the Maxwell-slip family.
 
 One set of element kernels serves every model built from elements in
 parallel: Maxwell-slip itself, the hysteresis force of the Leuven model, GMS,
@@ -22,6 +22,9 @@ Both element laws are integrated *exactly* over a step at constant velocity:
 
 The loops are written branch-free over contiguous arrays so LLVM vectorises
 them; the exponential is :func:`polind.kernels.fastexp.decay_exp`.
+
+The models are in the user guide: :ref:`guide-maxwell-slip`, :ref:`guide-gms`,
+:ref:`guide-leuven`, :ref:`guide-pol-ind-elements` and :ref:`guide-pol-ind-law`.
 """
 
 from __future__ import annotations
@@ -192,7 +195,10 @@ def stuck_stiffness(stiffness, slip_direction):
 @jit(inline="always")
 def maxwell_slip_step(scalars, table, state, step, displacement, step_velocity,
                       sample_velocity, normal_load):
-    """MODELS.md 4: ``F_i <- clip(F_i + k_i dx, -W_i, W_i)``; ``F = sum F_i + sigma2 v``."""
+    """Maxwell-slip: ``F_i <- clip(F_i + k_i dx, -W_i, W_i)``; ``F = sum F_i + sigma2 v``.
+
+    See :ref:`guide-maxwell-slip`.
+    """
     total = maxwell_slip_elements(state, table[ELEMENT_STIFFNESS], table[ELEMENT_CAPACITY],
                                   displacement)
     return total + scalars[VISCOUS] * sample_velocity
@@ -218,19 +224,19 @@ def maxwell_slip_path(scalars, table, state, step, displacement, step_velocity,
 
 
 @jit
-def maxwell_slip_motion(scalars, table, state, t, motion, by_velocity, start_position,
-                        start_velocity, continuing, position, velocity, loads, constant_load, lo,
-                        hi, first, out_force):
+def maxwell_slip_motion(scalars, table, state, source_t, source_motion, t, motion, by_velocity,
+                        start_position, start_velocity, continuing, position, velocity, loads,
+                        constant_load, lo, hi, first, out_force):
     """:func:`polind.kernels.contract.run_motion` specialised to Maxwell-slip."""
-    return run_motion(maxwell_slip_step, maxwell_slip_force, scalars, table, state, t, motion,
-                      by_velocity, start_position, start_velocity, continuing, position,
-                      velocity, loads, constant_load, lo, hi, first, out_force)
+    return run_motion(maxwell_slip_step, maxwell_slip_force, scalars, table, state, source_t, source_motion, t,
+                      motion, by_velocity, start_position, start_velocity, continuing,
+                      position, velocity, loads, constant_load, lo, hi, first, out_force)
 
 
 @jit(inline="always")
 def gms_step_scaled(scalars, table, element_force, slip_direction, step, displacement,
                     step_velocity, sample_velocity, coulomb_force, static_force):
-    """One GMS step (MODELS.md 5) with the given Stribeck levels; the element-model core.
+    """One GMS step (:ref:`guide-gms`) with the given Stribeck levels; the element-model core.
 
     A step with zero velocity changes nothing (``sgn(0) = 0``: no stick
     growth, no slip relaxation) and keeps every element's mode.
@@ -276,12 +282,13 @@ def gms_path(scalars, table, state, step, displacement, step_velocity, sample_ve
 
 
 @jit
-def gms_motion(scalars, table, state, t, motion, by_velocity, start_position, start_velocity,
-               continuing, position, velocity, loads, constant_load, lo, hi, first, out_force):
+def gms_motion(scalars, table, state, source_t, source_motion, t, motion, by_velocity,
+               start_position, start_velocity, continuing, position, velocity, loads,
+               constant_load, lo, hi, first, out_force):
     """:func:`polind.kernels.contract.run_motion` specialised to GMS."""
-    return run_motion(gms_step, gms_force, scalars, table, state, t, motion,
-                      by_velocity, start_position, start_velocity, continuing, position,
-                      velocity, loads, constant_load, lo, hi, first, out_force)
+    return run_motion(gms_step, gms_force, scalars, table, state, source_t, source_motion, t,
+                      motion, by_velocity, start_position, start_velocity, continuing,
+                      position, velocity, loads, constant_load, lo, hi, first, out_force)
 
 
 @jit

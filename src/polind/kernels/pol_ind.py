@@ -1,17 +1,17 @@
-"""The Pol-Ind step (MODELS.md 7.5-7.6): GMS elements whose table follows the normal load.
+"""The Pol-Ind step: GMS elements whose table follows the normal load.
 
 The stepping contract of :mod:`polind.kernels.contract` for the Pol-Ind
 model.  At a constant normal load the model *is* GMS with its element table
-(MODELS.md 7.6), and the step is the GMS step.  When the normal load of a
+(:ref:`guide-pol-ind-law`), and the step is the GMS step.  When the normal load of a
 sample differs from the last one, the separation ``d`` is re-solved for it
-inside the kernel (the iterative method of MODELS.md 7.4: a statistical
+inside the kernel (the iterative method of :ref:`guide-pol-ind-separation`: a statistical
 surface from the inverse of its load, one evaluation; a direct one
 warm-started from the previous ``d``; :mod:`polind.kernels.separation`), the element
 stiffnesses and capacities are re-evaluated at the fixed element heights,
 the capacities normalised so that ``sum W_j = mu_s N`` exactly
 (``alpha_j = W_j / sum W``), an element force beyond its new capacity is
 clipped to it, and an element out of contact (or just back in) restarts
-stuck from zero force (MODELS.md 7.5 **Choice**).
+stuck from zero force (:ref:`guide-pol-ind-varying-load`).
 
 Arrays
 ------
@@ -60,7 +60,7 @@ N_ROWS = 4
 
 @jit(inline="always")
 def set_load(scalars, table, state, normal_load):
-    """Re-evaluate the element table at a new normal load [N] (MODELS.md 7.5 **Choice**).
+    """Re-evaluate the element table at a new normal load [N] (:ref:`guide-pol-ind-varying-load`).
 
     The separation: a statistical surface by
     :func:`polind.kernels.separation.statistical_separation_at` (one
@@ -128,7 +128,7 @@ def set_load(scalars, table, state, normal_load):
 @jit(inline="always")
 def pol_ind_step(scalars, table, state, step, displacement, step_velocity, sample_velocity,
                  normal_load):
-    """MODELS.md 7.6: the GMS law with ``g(v) = N [mu_k + (mu_s - mu_k) shape(v)]``."""
+    """The GMS law with ``g(v) = N [mu_k + (mu_s - mu_k) shape(v)]`` (:ref:`guide-pol-ind-law`)."""
     if normal_load != scalars[CURRENT_LOAD]:
         set_load(scalars, table, state, normal_load)
     n = table.shape[1]
@@ -159,12 +159,13 @@ def pol_ind_path(scalars, table, state, step, displacement, step_velocity, sampl
 
 
 @jit
-def pol_ind_motion(scalars, table, state, t, motion, by_velocity, start_position, start_velocity,
-                   continuing, position, velocity, loads, constant_load, lo, hi, first, out_force):
+def pol_ind_motion(scalars, table, state, source_t, source_motion, t, motion, by_velocity,
+                   start_position, start_velocity, continuing, position, velocity, loads,
+                   constant_load, lo, hi, first, out_force):
     """:func:`polind.kernels.contract.run_motion` specialised to Pol-Ind."""
-    return run_motion(pol_ind_step, pol_ind_force, scalars, table, state, t, motion,
-                      by_velocity, start_position, start_velocity, continuing, position,
-                      velocity, loads, constant_load, lo, hi, first, out_force)
+    return run_motion(pol_ind_step, pol_ind_force, scalars, table, state, source_t, source_motion, t,
+                      motion, by_velocity, start_position, start_velocity, continuing,
+                      position, velocity, loads, constant_load, lo, hi, first, out_force)
 
 
 @jit

@@ -1,4 +1,4 @@
-"""Kernels of the single-state models: Dahl (MODELS.md 2), LuGre (3), Leuven (6).
+"""Kernels of the single-state models: Dahl, LuGre, Leuven (the user guide, :ref:`guide-models`).
 
 Arrays are indexed by the sample a step ends at (index 0: the initial state).
 ``step`` is the step length h [s], ``displacement`` its increment [m],
@@ -13,11 +13,12 @@ import math
 import numpy as np
 
 from polind.kernels import jit
-from polind.kernels.contract import run_motion, run_steps
+from polind.kernels.contract import VALID, run_motion, run_steps
 from polind.kernels.dynamics import advance_body_template, integrate_system_template
 from polind.kernels.elements import (element_sum, elastic_stiffness, maxwell_slip_elements,
                                      maxwell_slip_trial)
-from polind.kernels.stribeck import sign, stribeck_curve
+from polind.kernels.fastexp import decay_exp
+from polind.kernels.stribeck import RATIONAL, sign, stribeck_curve
 
 
 @jit(inline="always")
@@ -25,7 +26,7 @@ def dahl_deficit(deficit, distance, rate, exponent):
     """Exact solution of ``du/ds = -rate |u|^alpha sgn(u)`` after a distance ``s >= 0``.
 
     ``u = 1 - F sgn(v) / Fc`` is the normalised distance to saturation and
-    ``s = |dx|``; MODELS.md 2 in the travelled distance.  ``alpha = 1`` is
+    ``s = |dx|``; :ref:`guide-dahl` in the travelled distance.  ``alpha = 1`` is
     the exponential of the closed form; ``alpha < 1`` reaches ``u = 0`` in a
     finite distance and stays there; ``alpha > 1`` decays algebraically.
     """
@@ -86,12 +87,13 @@ def dahl_path(scalars, table, state, step, displacement, step_velocity, sample_v
 
 
 @jit
-def dahl_motion(scalars, table, state, t, motion, by_velocity, start_position, start_velocity,
-                continuing, position, velocity, loads, constant_load, lo, hi, first, out_force):
+def dahl_motion(scalars, table, state, source_t, source_motion, t, motion, by_velocity,
+                start_position, start_velocity, continuing, position, velocity, loads,
+                constant_load, lo, hi, first, out_force):
     """:func:`polind.kernels.contract.run_motion` specialised to Dahl."""
-    return run_motion(dahl_step, dahl_force, scalars, table, state, t, motion,
-                      by_velocity, start_position, start_velocity, continuing, position,
-                      velocity, loads, constant_load, lo, hi, first, out_force)
+    return run_motion(dahl_step, dahl_force, scalars, table, state, source_t, source_motion, t,
+                      motion, by_velocity, start_position, start_velocity, continuing,
+                      position, velocity, loads, constant_load, lo, hi, first, out_force)
 
 
 # --- LuGre: scalars below, state [z] ------------------------------------------------------
@@ -130,7 +132,7 @@ def lugre_force(scalars, table, state, sample_velocity, normal_load):
 @jit(inline="always")
 def lugre_step(scalars, table, state, step, displacement, step_velocity, sample_velocity,
                normal_load):
-    """LuGre over one step with the exact exponential update of MODELS.md 3.
+    """LuGre over one step with the exact exponential update (:ref:`guide-lugre`).
 
     The output's ``dz/dt`` is the state equation at the sample (the state
     after the step, the sample's velocity).
@@ -160,13 +162,100 @@ def lugre_path(scalars, table, state, step, displacement, step_velocity, sample_
               sample_velocity, loads, constant_load, lo, hi, first, out_force)
 
 
+#: Samples a LuGre motion block prepares at once (:func:`lugre_motion`).
+LUGRE_BLOCK = 512
+
+
 @jit
-def lugre_motion(scalars, table, state, t, motion, by_velocity, start_position, start_velocity,
-                 continuing, position, velocity, loads, constant_load, lo, hi, first, out_force):
-    """:func:`polind.kernels.contract.run_motion` specialised to LuGre."""
-    return run_motion(lugre_step, lugre_force, scalars, table, state, t, motion,
-                      by_velocity, start_position, start_velocity, continuing, position,
-                      velocity, loads, constant_load, lo, hi, first, out_force)
+def lugre_motion(scalars, table, state, source_t, source_motion, t, motion, by_velocity,
+                 start_position, start_velocity, continuing, position, velocity, loads,
+                 constant_load, lo, hi, first, out_force):
+    """:func:`polind.kernels.contract.run_motion` specialised to LuGre, in blocks of two passes.
+
+    The exact step's two exponentials (the Stribeck curve ``g(w)`` and the
+    decay ``exp(-sigma0 |w| h / g)``) depend on the path only, not on the
+    state ``z``.  Along positions with a Stribeck exponent of 1 or 2, each
+    block of :data:`LUGRE_BLOCK` samples is therefore prepared in a first
+    pass with no dependence between samples (copying and checking the
+    samples, the step velocities, both exponentials with the vectorisable
+    :func:`~polind.kernels.fastexp.decay_exp`), which the compiler turns
+    into SIMD code, and the second pass runs the recurrence
+    ``z <- z_ss + (z - z_ss) exp(...)`` and the output force alone.  A block
+    with a bad sample, velocities, or another exponent run through the
+    one-pass template instead, which finds and reports the bad sample.
+    """
+    exponent = scalars[LUGRE_STRIBECK_EXPONENT]
+    if by_velocity or not (exponent == 2.0 or exponent == 1.0) or hi - lo < 3:
+        return run_motion(lugre_step, lugre_force, scalars, table, state, source_t,
+                          source_motion, t, motion, by_velocity, start_position, start_velocity,
+                          continuing, position, velocity, loads, constant_load, lo, hi, first,
+                          out_force)
+    if first:       # samples lo and lo + 1 as the template does them (the start's velocity)
+        code, index = run_motion(lugre_step, lugre_force, scalars, table, state, source_t,
+                                 source_motion, t, motion, by_velocity, start_position,
+                                 start_velocity, continuing, position, velocity, loads,
+                                 constant_load, lo, lo + 2, True, out_force)
+        if code != VALID:
+            return code, index
+        lo = lo + 1
+    stiffness = scalars[LUGRE_STIFFNESS]
+    damping = scalars[LUGRE_DAMPING]
+    viscous = scalars[LUGRE_VISCOUS]
+    coulomb = scalars[LUGRE_COULOMB]
+    drop = scalars[LUGRE_STATIC] - coulomb
+    inverse_vs = 1.0 / scalars[LUGRE_STRIBECK_VELOCITY]
+    squared = exponent == 2.0
+    rational = scalars[LUGRE_STRIBECK_SHAPE] == RATIONAL
+    steady = np.empty(LUGRE_BLOCK)
+    decay = np.empty(LUGRE_BLOCK)
+    rate = np.empty(LUGRE_BLOCK)
+    a = lo + 1
+    while a < hi:
+        b = min(a + LUGRE_BLOCK, hi)
+        m = b - a
+        # Views of the block, indexed from 0: the compiler sees non-negative
+        # indices and vectorises the loops below.
+        t_in = source_t[a - 1:b]
+        x_in = source_motion[a - 1:b]
+        t_out = t[a:b]
+        x_out = motion[a:b]
+        w_out = velocity[a:b]
+        f_out = out_force[a:b]
+        bad = 0
+        for i in range(m):
+            t0 = t_in[i]
+            t1 = t_in[i + 1]
+            t_out[i] = t1
+            x_out[i] = x_in[i + 1]
+            h = t1 - t0
+            w = (x_in[i + 1] - x_in[i]) / h
+            w_out[i] = w
+            # Times finite and increasing (t0 was checked with its own sample),
+            # the step velocity finite (NaN fails every comparison).
+            ok = (t1 > t0) & (t1 < math.inf) & (abs(w) < math.inf)
+            bad += 0 if ok else 1
+            ratio = abs(w) * inverse_vs
+            ratio = ratio * ratio if squared else ratio
+            shape = 1.0 / (1.0 + ratio) if rational else decay_exp(-ratio)
+            g = coulomb + drop * shape
+            steady[i] = (g if w >= 0.0 else -g) / stiffness
+            relaxation = stiffness * abs(w) / g
+            rate[i] = relaxation
+            decay[i] = decay_exp(-relaxation * h)
+        if bad != 0:            # the template finds the bad sample and reports it
+            return run_motion(lugre_step, lugre_force, scalars, table, state, source_t,
+                              source_motion, t, motion, by_velocity, start_position,
+                              start_velocity, continuing, position, velocity, loads,
+                              constant_load, a - 1, hi, False, out_force)
+        z = state[0]
+        for i in range(m):
+            w = w_out[i]
+            if w != 0.0:
+                z = steady[i] + (z - steady[i]) * decay[i]
+            f_out[i] = stiffness * z + damping * (w - rate[i] * z) + viscous * w
+        state[0] = z
+        a = b
+    return VALID, -1
 
 
 @jit(inline="always")
@@ -205,7 +294,7 @@ N_LEUVEN_SCALARS = 9
 @jit(inline="always")
 def leuven_step(scalars, table, state, step, displacement, step_velocity, sample_velocity,
                 normal_load):
-    """Modified Leuven model (MODELS.md 6) with an implicit (backward Euler) step.
+    """Modified Leuven model (:ref:`guide-leuven`) with an implicit (backward Euler) step.
 
     The state equation ``dz/dt = v (1 - sgn(Fh/s)|Fh/s|^n)`` is stiff when
     the hysteresis elements are stiff, so each step solves the backward-Euler
@@ -280,12 +369,13 @@ def leuven_path(scalars, table, state, step, displacement, step_velocity, sample
 
 
 @jit
-def leuven_motion(scalars, table, state, t, motion, by_velocity, start_position, start_velocity,
-                  continuing, position, velocity, loads, constant_load, lo, hi, first, out_force):
+def leuven_motion(scalars, table, state, source_t, source_motion, t, motion, by_velocity,
+                  start_position, start_velocity, continuing, position, velocity, loads,
+                  constant_load, lo, hi, first, out_force):
     """:func:`polind.kernels.contract.run_motion` specialised to Leuven."""
-    return run_motion(leuven_step, leuven_force, scalars, table, state, t, motion,
-                      by_velocity, start_position, start_velocity, continuing, position,
-                      velocity, loads, constant_load, lo, hi, first, out_force)
+    return run_motion(leuven_step, leuven_force, scalars, table, state, source_t, source_motion, t,
+                      motion, by_velocity, start_position, start_velocity, continuing,
+                      position, velocity, loads, constant_load, lo, hi, first, out_force)
 
 
 @jit

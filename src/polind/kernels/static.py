@@ -1,4 +1,4 @@
-"""Step kernels of the memoryless models (MODELS.md 1): Coulomb and Stribeck.
+"""Step kernels of the memoryless models (:ref:`guide-static-models`): Coulomb and Stribeck.
 
 They follow the stepping contract of :mod:`polind.kernels.contract` with an
 empty state: the force at a sample is a function of the velocity reported
@@ -54,13 +54,13 @@ def memoryless_path(scalars, table, state, step, displacement, step_velocity, sa
 
 
 @jit
-def memoryless_motion(scalars, table, state, t, motion, by_velocity, start_position,
-                      start_velocity, continuing, position, velocity, loads, constant_load, lo,
-                      hi, first, out_force):
+def memoryless_motion(scalars, table, state, source_t, source_motion, t, motion, by_velocity,
+                      start_position, start_velocity, continuing, position, velocity, loads,
+                      constant_load, lo, hi, first, out_force):
     """:func:`polind.kernels.contract.run_motion` specialised to the memoryless models."""
-    return run_motion(memoryless_step, memoryless_force, scalars, table, state, t, motion,
-                      by_velocity, start_position, start_velocity, continuing, position,
-                      velocity, loads, constant_load, lo, hi, first, out_force)
+    return run_motion(memoryless_step, memoryless_force, scalars, table, state, source_t, source_motion, t,
+                      motion, by_velocity, start_position, start_velocity, continuing,
+                      position, velocity, loads, constant_load, lo, hi, first, out_force)
 
 
 @jit

@@ -1,7 +1,7 @@
 """What every friction model shares: parameters, state, the stepping contract.
 
-A model is a validated parameter set plus a kernel (STYLE.md: a stepper owns
-its bookkeeping, a model supplies only the physics).  :func:`polind.simulate`
+A model is a validated parameter set plus a kernel (a stepper owns its
+bookkeeping, a model supplies only the physics).  :func:`polind.simulate`
 turns the prescribed motion into a :class:`Path` of steps; each model's
 ``_advance`` runs its numba kernel over the path, updating a :class:`State`
 in place, and returns the force at every sample.
@@ -60,7 +60,7 @@ register = register_model
 
 @dataclass(frozen=True)
 class Path:
-    """A prescribed motion cut into steps at constant velocity (INTERFACE.md).
+    """A prescribed motion cut into steps at constant velocity (:ref:`guide-simulate-path`).
 
     Arrays have one entry per sample; entry ``k`` of ``step``,
     ``displacement`` and ``step_velocity`` describes the step that *ends* at
@@ -95,6 +95,7 @@ class State:
     _SCALARS: ClassVar[tuple] = ("time", "position", "velocity", "force")
 
     def copy(self) -> "State":
+        """A deep copy (the variables' arrays copied too)."""
         return State(self.model_type, self.time, self.position, self.velocity, self.force,
                      {key: np.array(value, dtype=np.float64, copy=True)
                       for key, value in self.variables.items()})
@@ -108,6 +109,7 @@ class State:
         return out
 
     def to_json(self) -> str:
+        """The state as JSON text (:meth:`to_dict`); :meth:`from_json` reads it back."""
         return json.dumps(self.to_dict(), allow_nan=False)
 
     @classmethod
@@ -307,17 +309,20 @@ class StepKernel:
                           displacement, step_velocity, sample_velocity, loads,
                           self.normal_load, lo, hi, first, out_force)
 
-    def run_motion(self, t, motion, by_velocity, start_position, start_velocity, continuing,
-                   position, velocity, loads, lo, hi, first, out_force):
+    def run_motion(self, source_t, source_motion, t, motion, by_velocity, start_position,
+                   start_velocity, continuing, position, velocity, loads, lo, hi, first,
+                   out_force):
         """``polind.kernels.contract.run_motion`` with this model's functions: ``(code, index)``.
 
-        Not for a mounted model (a series spring or a load scaling), which
-        runs from step arrays (:meth:`run`).
+        Copies ``source_t`` and ``source_motion`` into ``t`` and ``motion`` (they
+        may be the same arrays) as it checks and runs them.  Not for a mounted
+        model (a series spring or a load scaling), which runs from step arrays
+        (:meth:`run`).
         """
         loads = _NO_LOADS if loads is None else loads
-        arguments = (self.scalars, self.table, self.state, t, motion, by_velocity,
-                     start_position, start_velocity, continuing, position, velocity, loads,
-                     self.normal_load, lo, hi, first, out_force)
+        arguments = (self.scalars, self.table, self.state, source_t, source_motion, t, motion,
+                     by_velocity, start_position, start_velocity, continuing, position,
+                     velocity, loads, self.normal_load, lo, hi, first, out_force)
         if self.motion is not None:
             return self.motion(*arguments)
         from polind.kernels.contract import run_motion_any
@@ -342,7 +347,7 @@ class StepKernel:
         """``polind.kernels.dynamics.advance_body_template`` with this model's functions.
 
         ``args`` are the template's arguments without the final ``mount``
-        (added here); its ``scratch`` is :attr:`scratch`.
+        (added here); its ``scratch`` is the kernel's ``scratch`` array.
         """
         if self.mount is not None:
             from polind.kernels.series import advance_body_mounted
@@ -359,8 +364,8 @@ _NO_LOADS = np.zeros(0)
 # an infinitely stiff spring, no reference load).
 _RIGID = np.array([math.inf] + [0.0] * 8)
 
-#: The keys every model has besides its own (INTERFACE.md "Normal load for every
-#: model", "Series compliance"): added to each subclass's ``parameters``.
+#: The keys every model has besides its own (the user guide, "Normal load for every
+#: model" and "Series compliance"): added to each subclass's ``parameters``.
 REFERENCE_LOAD = Param("reference_load", default=None, unit="N")
 COMPLIANCE = Table("compliance", (Param("stiffness", unit="N/m"),), default=None)
 
@@ -392,7 +397,7 @@ class FrictionModel:
     parameters: ClassVar[tuple] = ()
     takes_normal_load: ClassVar[bool] = False
     state_keys: ClassVar[tuple | None] = None
-    #: The phenomena of MODELS.md 7.7 the model is credited with beyond those
+    #: The phenomena (the user guide, "Friction phenomena") the model is credited with beyond those
     #: that follow from its scales (a Stribeck dip gives the Stribeck effect and
     #: stick-slip, every model breaks away): any of "presliding_memory",
     #: "frictional_lag" (shown where the curve has a dip), "non_drifting".
@@ -430,6 +435,7 @@ class FrictionModel:
         return {"model": {"type": self.type, **copy.deepcopy(self._params)}}
 
     def to_json(self) -> str:
+        """The model-file document (:meth:`to_dict`) as JSON text."""
         return json.dumps(self.to_dict(), allow_nan=False)
 
     def with_params(self, **changes) -> "FrictionModel":
@@ -475,7 +481,7 @@ class FrictionModel:
     def characteristic_scales(self) -> dict | None:
         """The force, velocity and length scales the phenomena experiments are sized by.
 
-        A dict as :func:`scales` builds it, or None: a model that declares no
+        A dict as ``polind.models.base.scales`` builds it, or None: a model that declares no
         scales cannot be run through the phenomena (they say so).
         """
         return None
@@ -570,7 +576,7 @@ class FrictionModel:
                                  f"the {self.type} model has {np.size(value)}.")
 
     def flat_state(self, state: State) -> np.ndarray:
-        """The state's variables as one float64 array, in :attr:`state_keys` order."""
+        """The state's variables as one float64 array, in ``state_keys`` order."""
         parts = [np.asarray(state.variables[key], dtype=np.float64).reshape(-1)
                  for key in self._state_keys()]
         return np.concatenate(parts) if parts else np.zeros(0)
