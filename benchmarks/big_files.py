@@ -9,7 +9,9 @@
    of polind.
 2. Runs ``polind simulate MODEL -i MOTION -o OUT`` as a subprocess (after a
    small warm-up run, so that numba's cache is filled) and reports its wall
-   time and peak resident memory (``os.wait4``'s ``ru_maxrss``).  With
+   time and peak resident memory (``os.wait4``'s ``ru_maxrss``): the row of
+   ``polind bench --big-files``, whose pieces (the motion, the model, the
+   measured subprocess) this script shares.  With
    ``--parquet`` the same run with ``.parquet`` input and output too.
 3. Times the reading, the computing and the writing inside one process.
    The machine's other load shows in wall times: the CPU seconds of each
@@ -36,39 +38,17 @@ from pathlib import Path
 
 import numpy as np
 
-MODEL_TOML = """\
-[model]
-type = "maxwell-slip"
-stiffness = [1e5, 5e4, 2e4, 1e4]
-breakaway_force = [0.2, 0.3, 0.25, 0.25]
-viscous_coefficient = 0.0
-"""
+from polind.bench import (BIG_FILE_MODEL as MODEL_TOML, BIG_FILE_TARGET_PEAK_BYTES as
+                          TARGET_PEAK_BYTES, BIG_FILE_TARGET_SECONDS as TARGET_SECONDS,
+                          big_motion as motion, polind_command, run_measured,
+                          write_big_motion_csv as write_motion_csv)
 
 # The same model scaling with a normal-load signal (for the normal_load case of simulate).
 MODEL_WITH_LOAD = {"model": {"type": "maxwell-slip", "stiffness": [1e5, 5e4, 2e4, 1e4],
                              "breakaway_force": [0.2, 0.3, 0.25, 0.25],
                              "viscous_coefficient": 0.0, "reference_load": 10.0}}
 
-TARGET_SECONDS = 8.0
-TARGET_PEAK_BYTES = 1e9
 TARGET_BYTES_PER_SAMPLE = 40.0
-
-
-def motion(samples):
-    """A sinusoidal displacement (amplitude 10 um, 5 Hz) sampled at 100 kHz, with jitter in t."""
-    k = np.arange(samples, dtype=np.float64)
-    t = k * 1e-5 + 1e-7 * np.sin(k)               # strictly increasing, 17 digits each
-    x = 1e-5 * np.sin(2.0 * np.pi * 5.0 * t)
-    return t, x
-
-
-def write_motion_csv(path, t, x, rows_per_chunk=100_000):
-    with open(path, "w") as stream:
-        stream.write("t,x\n")
-        for start in range(0, t.shape[0], rows_per_chunk):
-            chunk = np.column_stack((t[start:start + rows_per_chunk],
-                                     x[start:start + rows_per_chunk]))
-            stream.write(("%.17g,%.17g\n" * chunk.shape[0]) % tuple(chunk.ravel().tolist()))
 
 
 def write_motion_parquet(path, t, x):
@@ -76,24 +56,6 @@ def write_motion_parquet(path, t, x):
     import pyarrow.parquet as pq
 
     pq.write_table(pa.table({"t": t, "x": x}), path)
-
-
-def polind_command():
-    """The `polind` beside this Python, else `python -m polind`."""
-    script = Path(sys.executable).with_name("polind")
-    return [str(script)] if script.exists() else [sys.executable, "-m", "polind"]
-
-
-def run_measured(command):
-    """(wall seconds, CPU seconds, peak RSS bytes, exit status, stderr) of one subprocess."""
-    started = time.perf_counter()
-    process = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
-    stderr = process.stderr.read()
-    _, status, usage = os.wait4(process.pid, 0)
-    seconds = time.perf_counter() - started
-    process.returncode = os.waitstatus_to_exitcode(status)
-    return (seconds, usage.ru_utime + usage.ru_stime, usage.ru_maxrss * 1024,
-            process.returncode, stderr.decode(errors="replace"))
 
 
 def cli_case(folder, model_path, motion_path, output_path):

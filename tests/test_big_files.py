@@ -8,6 +8,7 @@ follow the rules of CSV ones.  benchmarks/big_files.py measures the 1e7-sample c
 
 from __future__ import annotations
 
+import importlib
 import os
 import sys
 import threading
@@ -24,7 +25,7 @@ from polind.errors import InputError
 from conftest import lib, representative
 from test_io import BAD_MOTIONS
 
-simulate_module = sys.modules["polind.simulate"]
+simulate_module = importlib.import_module("polind.simulate")
 
 MAXWELL_SLIP = ('[model]\ntype = "maxwell-slip"\nstiffness = [1e5, 5e4, 2e4, 1e4]\n'
                 'breakaway_force = [0.2, 0.3, 0.25, 0.25]\n')

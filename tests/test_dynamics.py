@@ -19,6 +19,7 @@ from scipy.integrate import solve_ivp
 import polind
 import polind.dynamics as dynamics
 from conftest import LUGRE_1995, lib, representative
+from test_io import SYSTEM_TOML
 from polind.dynamics import System, SystemResult, load_system, simulate_system
 from polind.errors import InputError
 from polind.models.pol_ind import default_table
@@ -432,6 +433,125 @@ def test_load_system_reads_the_system_file(tmp_path):
                    "[system.force]\nrate = 2.0\n")
     with pytest.raises(InputError, match="mass"):
         load_system(bad)
+
+
+# --- one validator for a [system] file and a System built in Python ---------------------
+
+#: SYSTEM_TOML as System keywords.
+SYSTEM_ARGUMENTS = {"mass": 1.0, "duration": 10.0, "time_step": 1e-4, "spring_stiffness": 2.0,
+                    "drive_velocity": 0.1, "offset": 0.5, "rate": 0.0, "amplitude": 0.4,
+                    "frequency": 1.0}
+
+
+def _system_file(tmp_path, replacements):
+    text = SYSTEM_TOML
+    for old, new in replacements:
+        assert old in text
+        text = text.replace(old, new, 1)
+    path = tmp_path / "system.toml"
+    path.write_text(text)
+    return path
+
+
+# (id, the change to SYSTEM_TOML, the same mistake as System keywords, the file key named)
+BAD_SYSTEM_VALUES = [
+    ("zero-mass", ("mass = 1.0", "mass = 0.0"), {"mass": 0.0}, "'mass'"),
+    ("negative-duration", ("duration = 10.0", "duration = -1"), {"duration": -1}, "'duration'"),
+    ("zero-time-step", ("time_step = 1e-4", "time_step = 0"), {"time_step": 0}, "'time_step'"),
+    ("time-step-beyond-duration", ("time_step = 1e-4", "time_step = 20.0"),
+     {"time_step": 20.0}, "'time_step'"),
+    ("negative-stiffness", ("stiffness = 2.0", "stiffness = -2.0"),
+     {"spring_stiffness": -2.0}, "'spring_drive.stiffness'"),
+    ("negative-frequency", ("frequency = 1.0", "frequency = -1.0"), {"frequency": -1.0},
+     "'force.frequency'"),
+    ("nan", ("amplitude = 0.4", "amplitude = nan"), {"amplitude": math.nan},
+     "'force.amplitude'"),
+    ("inf", ("mass = 1.0", "mass = inf"), {"mass": math.inf}, "'mass'"),
+    ("text", ("offset = 0.5", 'offset = "half"'), {"offset": "half"}, "'force.offset'"),
+    ("boolean", ("rate = 0.0", "rate = true"), {"rate": True}, "'force.rate'"),
+    ("400-digit-integer", ("mass = 1.0", "mass = " + "9" * 400), {"mass": int("9" * 400)},
+     "'mass'"),
+    ("beyond-memory", ("time_step = 1e-4", "time_step = 1e-13"), {"time_step": 1e-13},
+     "time_step"),
+]
+
+
+@pytest.mark.parametrize("change, arguments, key", [case[1:] for case in BAD_SYSTEM_VALUES],
+                         ids=[case[0] for case in BAD_SYSTEM_VALUES])
+def test_a_bad_system_value_has_one_message_from_a_file_and_from_python(tmp_path, change,
+                                                                        arguments, key):
+    with pytest.raises(InputError) as in_python:
+        System(**{**SYSTEM_ARGUMENTS, **arguments})
+    path = _system_file(tmp_path, [change])
+    with pytest.raises(InputError) as from_file:
+        load_system(path)
+    assert str(from_file.value) == f"{path}: {in_python.value}"
+    assert key in str(from_file.value)
+
+
+# (id, changes to SYSTEM_TOML, fragments of the message after the file's name)
+BAD_SYSTEM_KEYS = [
+    ("unknown-key", [("mass = 1.0", "mass = 1.0\nmas = 2")], ["Unknown key 'mas'", "mass"]),
+    ("unknown-subtable-key", [("velocity = 0.1", "velocity = 0.1\nspeed = 1")],
+     ["Unknown key 'spring_drive.speed'"]),
+    ("unknown-subtable", [("[system.force]", "[system.brake]\nx = 1\n[system.force]")],
+     ["Unknown key 'brake'"]),
+    ("missing-mass", [("mass = 1.0\n", "")], ["Missing key 'mass'"]),
+    ("missing-drive-velocity", [("velocity = 0.1\n", "")],
+     ["Missing key 'spring_drive.velocity'"]),
+    ("empty-spring-drive", [("stiffness = 2.0\nvelocity = 0.1\n", "")],
+     ["Missing key 'spring_drive.stiffness'"]),
+    ("drive-not-table", [("[system.spring_drive]\nstiffness = 2.0\nvelocity = 0.1\n", ""),
+                         ("time_step = 1e-4\n", "time_step = 1e-4\nspring_drive = 3\n")],
+     ["'spring_drive' table", "Got 3"]),
+    ("no-drive", [("[system.spring_drive]\nstiffness = 2.0\nvelocity = 0.1\n", ""),
+                  ("[system.force]\noffset = 0.5\nrate = 0.0\namplitude = 0.4\n"
+                   "frequency = 1.0\n", "")],
+     ["no drive", "[system.spring_drive]", "[system.force]"]),
+]
+
+
+@pytest.mark.parametrize("changes, fragments", [case[1:] for case in BAD_SYSTEM_KEYS],
+                         ids=[case[0] for case in BAD_SYSTEM_KEYS])
+def test_a_bad_system_file_key_is_named_after_the_file(tmp_path, changes, fragments):
+    path = _system_file(tmp_path, changes)
+    with pytest.raises(InputError) as error:
+        load_system(path)
+    message = str(error.value)
+    assert message.startswith(f"{path}: ") and message.count(f"{path}") == 1, message
+    for fragment in fragments:
+        assert fragment in message, (fragment, message)
+
+
+def test_a_system_file_reads_as_its_python_system(tmp_path):
+    assert load_system(_system_file(tmp_path, [])) == System(**SYSTEM_ARGUMENTS)
+    integers = _system_file(tmp_path, [("mass = 1.0", "mass = 2"), ("duration = 10.0",
+                                                                    "duration = 10")])
+    loaded = load_system(integers)
+    assert loaded == System(**{**SYSTEM_ARGUMENTS, "mass": 2.0})
+    assert isinstance(loaded.mass, float) and isinstance(loaded.duration, float)
+
+
+def test_polind_dynamics_and_polind_sweep_give_the_message_of_load_system(tmp_path, capsys):
+    from polind.cli import _run
+    from polind.sweep import load_sweep
+
+    path = _system_file(tmp_path, [("stiffness = 2.0", "stiffness = -2.0")])
+    with pytest.raises(InputError) as error:
+        load_system(path)
+    model = tmp_path / "model.toml"
+    model.write_text('[model]\ntype = "coulomb"\ncoulomb_force = 1.0\n')
+    status = _run(["dynamics", str(model), "--system", str(path), "-o",
+                   str(tmp_path / "out.csv")])
+    assert status == 2
+    assert capsys.readouterr().err == f"polind: error: {error.value}\n"
+    sweep_file = tmp_path / "sweep.toml"
+    sweep_file.write_text('[sweep]\nmodel = "model.toml"\nsystem = "system.toml"\n'
+                          'metrics = ["mean_force"]\n'
+                          '[sweep.parameters]\n"model.coulomb_force" = { values = [1.0] }\n')
+    with pytest.raises(InputError) as from_sweep:
+        load_sweep(sweep_file)
+    assert str(from_sweep.value) == str(error.value)
 
 
 # --- (3b) a convergence study from h = 1e-3 to 1e-5 s -------------------------------------

@@ -298,51 +298,26 @@ frequency = 1.0
 """
 
 
-def test_read_system_file(tmp_path):
+def test_read_system_file_gives_the_table_as_written(tmp_path):
+    # Keys and values are checked by polind.load_system (test_dynamics.py), once.
     system = io.read_system_file(write_file(tmp_path / "s.toml", SYSTEM_TOML))
     assert system == {"mass": 1.0, "duration": 10.0, "time_step": 1e-4,
                       "spring_drive": {"stiffness": 2.0, "velocity": 0.1},
                       "force": {"offset": 0.5, "rate": 0.0, "amplitude": 0.4,
                                 "frequency": 1.0}}
-    force_only = "[system]\nmass = 2\nduration = 1\ntime_step = 0.5\n[system.force]\nrate = 3\n"
-    system = io.read_system_file(write_file(tmp_path / "f.toml", force_only))
-    assert system["spring_drive"] is None
-    assert system["force"] == {"offset": 0.0, "rate": 3.0, "amplitude": 0.0, "frequency": 0.0}
-    assert isinstance(system["mass"], float)
 
 
 # (id, replacements (old, new) applied to SYSTEM_TOML, fragments of the message)
-BAD_SYSTEMS = [
-    ("unknown-key", [("mass = 1.0", "mass = 1.0\nmas = 2")], ["'system.mas'"]),
-    ("unknown-subtable-key", [("velocity = 0.1", "velocity = 0.1\nspeed = 1")],
-     ["'system.spring_drive.speed'"]),
+BAD_SYSTEM_FILES = [
     ("unknown-top-level", [("[system]\n", "[model]\n[system]\n")], ["'model'"]),
     ("no-system", [("[system]\n", "[sistem]\n")], ["'sistem'"]),
-    ("missing-mass", [("mass = 1.0\n", "")], ["missing key 'system.mass'"]),
-    ("missing-drive-velocity", [("velocity = 0.1\n", "")],
-     ["missing key 'system.spring_drive.velocity'"]),
-    ("zero-mass", [("mass = 1.0", "mass = 0.0")], ["'system.mass'", "positive", "0.0"]),
-    ("negative-duration", [("duration = 10.0", "duration = -1")], ["'system.duration'"]),
-    ("zero-time-step", [("time_step = 1e-4", "time_step = 0")], ["'system.time_step'"]),
-    ("time-step-beyond-duration", [("time_step = 1e-4", "time_step = 20.0")],
-     ["'system.time_step'", "duration"]),
-    ("negative-stiffness", [("stiffness = 2.0", "stiffness = -2.0")],
-     ["'system.spring_drive.stiffness'", "non-negative", "-2.0"]),
-    ("negative-frequency", [("frequency = 1.0", "frequency = -1.0")],
-     ["'system.force.frequency'", "non-negative"]),
-    ("nan", [("amplitude = 0.4", "amplitude = nan")], ["'system.force.amplitude'", "finite"]),
-    ("inf", [("mass = 1.0", "mass = inf")], ["'system.mass'", "finite"]),
-    ("text", [("offset = 0.5", 'offset = "half"')], ["'system.force.offset'", "'half'"]),
-    ("boolean", [("rate = 0.0", "rate = true")], ["'system.force.rate'", "True"]),
-    ("drive-not-table", [("[system.spring_drive]\nstiffness = 2.0\nvelocity = 0.1\n", ""),
-                         ("time_step = 1e-4\n", "time_step = 1e-4\nspring_drive = 3\n")],
-     ["'system.spring_drive'", "table"]),
+    ("not-toml", [("mass = 1.0", "mass = = 1.0")], ["not valid TOML"]),
 ]
 
 
-@pytest.mark.parametrize("replacements, fragments", [case[1:] for case in BAD_SYSTEMS],
-                         ids=[case[0] for case in BAD_SYSTEMS])
-def test_bad_system_file_names_file_and_key(tmp_path, replacements, fragments):
+@pytest.mark.parametrize("replacements, fragments", [case[1:] for case in BAD_SYSTEM_FILES],
+                         ids=[case[0] for case in BAD_SYSTEM_FILES])
+def test_bad_system_file_names_the_file(tmp_path, replacements, fragments):
     text = SYSTEM_TOML
     for old, new in replacements:
         assert old in text
@@ -353,8 +328,3 @@ def test_bad_system_file_names_file_and_key(tmp_path, replacements, fragments):
     assert_names(str(error.value), path, fragments)
 
 
-def test_system_without_any_drive(tmp_path):
-    path = write_file(tmp_path / "s.toml", "[system]\nmass = 1\nduration = 1\ntime_step = 0.1\n")
-    with pytest.raises(InputError) as error:
-        io.read_system_file(path)
-    assert_names(str(error.value), path, ["[system.spring_drive]", "[system.force]"])

@@ -3,14 +3,15 @@
 import numpy as np
 import pytest
 
+import importlib
 import sys
 
 import polind
 from polind.models.pol_ind import default_table
 from conftest import lib, representative
 
-# polind.simulate is the function; the module is reached through sys.modules.
-simulate_module = sys.modules["polind.simulate"]
+# polind.simulate is the function; the module is reached through importlib.
+simulate_module = importlib.import_module("polind.simulate")
 
 
 @pytest.mark.parametrize("model_type", ["maxwell-slip", "gms", "lugre", "leuven", "pol-ind"])

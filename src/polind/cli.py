@@ -1,10 +1,10 @@
-"""The ``polind`` command line (INTERFACE.md "Command line"): parsing and printing only.
+"""The ``polind`` command line (:ref:`cli`): parsing and printing only.
 
 Each command is one small function registered on the :func:`cli` group; it
 reads its files with :mod:`polind.io`, calls the library, and writes its
 output with an atomic writer.  Commands never print errors or choose exit
 statuses themselves: they raise, and :func:`main` turns what they raise into
-the exit status of INTERFACE.md:
+the exit status of :ref:`cli-exit-status`:
 
 - 0 success;
 - 2 bad input (:class:`~polind.errors.InputError`, click usage errors), with
@@ -200,10 +200,12 @@ def simulate(model_path, motion_path, output_path):
     """
     import polind
     from polind import io
+    from polind.simulate import BYTES_PER_SAMPLE
 
     refuse_overwriting_inputs([model_path, motion_path], {"--output": output_path})
     check_output_path(output_path)
     model = load_model(model_path)
+    io.check_table_memory(motion_path, BYTES_PER_SAMPLE, "simulating")
     motion = read_samples(motion_path)
     with blame(motion_path), progress(total=len(motion["t"]), description="simulate",
                                       unit=" samples") as bar:
@@ -333,7 +335,10 @@ def topography(map_path, as_json, plot_path, pixel_size, short_cutoff):
 @cli.command()
 @click.option("--model", "models", multiple=True, metavar="TYPE",
               help="Benchmark only this model type (repeatable). Default: all benchmarked.")
-def bench(models):
+@click.option("--big-files", "big_files", is_flag=True,
+              help="Also time `polind simulate` along a 1e7-sample motion CSV (423 MB) end to "
+                   "end: a minute or so, and 1.3 GB of temporary files.")
+def bench(models, big_files):
     """The performance benchmark: element-steps per second, numba kernel vs plain NumPy.
 
     Each model runs at 1, 64 and 1024 elements (the single-state models at
@@ -341,7 +346,9 @@ def bench(models):
     elements vectorised) is timed in the same run and the ratio printed.
     Without --model, ratios taken in the same run follow: Stepper against a
     bare numba call, simulate against bare numba loops, Pol-Ind under a
-    varying against a constant load.
+    varying against a constant load.  With --big-files, last: the wall time
+    and peak memory of a `polind simulate` process of a 4-element
+    Maxwell-slip model along a 1e7-sample motion CSV (targets 8 s, 1 GB).
     """
     from polind import bench as benchmark
     from polind.models import MODEL_TYPES
@@ -379,13 +386,18 @@ def bench(models):
         click.echo("\n" + benchmark.format_ratios([]))
         benchmark.run_ratios(progress=lambda row: click.echo(
             benchmark.format_ratios([row]).splitlines()[-1]))
+    if big_files:
+        with progress(description="big files", unit="") as bar:
+            row = benchmark.run_big_files(progress=bar.set_description_str)
+        click.echo("\n" + benchmark.format_big_files(row))
 
 
 @cli.command()
 @model_argument
 @click.option("--system", "-s", "system_path", required=True, type=_file_path(),
-              metavar="SYSTEM.toml", help="The [system] file (MODELS.md 8): mass, duration, "
-                                          "time_step, spring_drive and/or force.")
+              metavar="SYSTEM.toml",
+              help="The [system] file (the user guide, 'One-degree-of-freedom systems'): mass, "
+                   "duration, time_step, spring_drive and/or force.")
 @output_option
 def dynamics(model_path, system_path, output_path):
     """A one-degree-of-freedom system: a mass driven by a spring and/or a force.
@@ -421,8 +433,9 @@ def dynamics(model_path, system_path, output_path):
 def demo(out_dir, model_path):
     """The friction phenomena on the default Pol-Ind model beside LuGre, GMS and Maxwell-slip.
 
-    Runs the six experiments of MODELS.md 7.7 (Stribeck effect, presliding
-    memory, frictional lag, non-drifting, stick-slip, break-away) and writes
+    Runs the six experiments of the user guide's 'Friction phenomena'
+    (Stribeck effect, presliding memory, frictional lag, non-drifting,
+    stick-slip, break-away) and writes
     DIR/report.html (self-contained), one PNG per figure and DIR/metrics.json.
     """
     import time
@@ -509,6 +522,8 @@ def fit(model_path, data_path, output_path, plot_path, holdout):
     with blame(model_path):
         document = io.read_model_file(model_path)
         model, free, bounds = identification.parse_fit(document)
+    io.check_table_memory(data_path, identification.fit_bytes_per_sample(model, free),
+                          f"fitting {len(free)} free key{'s' if len(free) != 1 else ''} to")
     data = read_samples(data_path, **io.MEASUREMENT_COLUMNS)
     with progress(description="fit", unit=" simulations") as bar:
         def advance(evaluations, rms):
@@ -557,13 +572,16 @@ def compare(model_paths, data_path, holdout, output_path, plot_path):
                               {"--output": output_path, "--plot": plot_path})
     stems = [Path(path).stem for path in model_paths]
     documents = {}
+    per_sample = 0.0              # the models are fitted one after another: the largest fit
     for path, stem in zip(model_paths, stems):
         label = stem if stems.count(stem) == 1 else os.fspath(path)
         if label in documents:
             raise InputError(f"{path}: the model file is given twice; expected each MODEL once.")
         with blame(path):
             documents[label] = io.read_model_file(path)
-            identification.parse_fit(documents[label])
+            model, free, _ = identification.parse_fit(documents[label])
+        per_sample = max(per_sample, identification.fit_bytes_per_sample(model, free))
+    io.check_table_memory(data_path, per_sample, "fitting the models to")
     data = read_samples(data_path, **io.MEASUREMENT_COLUMNS)
     with progress(total=len(documents), description="compare", unit=" models") as bar:
         def advance(done, total, label):

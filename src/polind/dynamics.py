@@ -1,11 +1,13 @@
-"""One-degree-of-freedom systems (MODELS.md 8): :func:`simulate_system`.
+"""One-degree-of-freedom systems (:ref:`guide-systems`): :func:`simulate_system`.
 
 A body of mass ``m`` driven by a spring ``k_d`` pulled at ``v_d`` and/or an
 applied force, against the friction force ``F`` of any polind model::
 
     m a = k_d (v_d t - x) + offset + rate t + amplitude sin(2 pi frequency t) - F
 
-This module validates the system, packs the model's parameters and state into
+This module validates the system (one validator for a :class:`System` built
+in Python and for a ``[system]`` file, driven by the declarations of
+:data:`FILE_KEYS`), packs the model's parameters and state into
 the flat arrays of :mod:`polind.kernels.dynamics` (which holds the integrator
 and explains the scheme) and wraps the result.  The friction force of the
 result is the model's own along the body's path: the model state is advanced
@@ -16,6 +18,7 @@ exactly as ``polind.simulate(model, res.t, x=res.x)`` advances it, and with
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass, fields
 
 import numpy as np
@@ -23,7 +26,8 @@ import numpy as np
 from polind.errors import InputError, describe
 from polind.kernels import dynamics as dynamics_kernel
 from polind.models import FrictionModel, State
-from polind.simulate import as_samples
+from polind.simulate import as_samples, summary_repr
+from polind.validation import check_number
 
 __all__ = ["System", "SystemResult", "load_system", "simulate_system"]
 
@@ -32,8 +36,39 @@ METHODS = {"bdf2": dynamics_kernel.BDF2, "euler": dynamics_kernel.EULER}
 # Steps per kernel call: long runs report progress between chunks.
 _CHUNK = 1 << 16
 
-_POSITIVE = ("mass", "duration", "time_step")
-_NONNEGATIVE = ("spring_stiffness", "frequency")
+
+@dataclass(frozen=True)
+class _Key:
+    """A key of a ``[system]`` file: the :class:`System` field it sets, the range of its
+    value (a bound of :func:`polind.validation.check_number`) and whether a file that
+    has the key's table must give it (else it takes the field's default)."""
+
+    field: str
+    bound: str = "any"
+    required: bool = False
+
+
+#: The declarations every check of a system follows, keyed by the ``[system]`` file's
+#: dotted key (``spring_drive.stiffness`` is ``[system.spring_drive] stiffness``).
+_KEYS = {
+    "mass": _Key("mass", "positive", required=True),
+    "duration": _Key("duration", "positive", required=True),
+    "time_step": _Key("time_step", "positive", required=True),
+    "spring_drive.stiffness": _Key("spring_stiffness", "nonnegative", required=True),
+    "spring_drive.velocity": _Key("drive_velocity", required=True),
+    "force.offset": _Key("offset"),
+    "force.rate": _Key("rate"),
+    "force.amplitude": _Key("amplitude"),
+    "force.frequency": _Key("frequency", "nonnegative"),
+}
+#: The drive tables of a ``[system]`` file; a file needs at least one.
+_DRIVES = ("spring_drive", "force")
+
+
+def _owner(key) -> str:
+    """Who a value belongs to in a message: the system, and the file key when it differs."""
+    field = _KEYS[key].field
+    return "the system" if field == key else f"the system (key '{key}' of a [system] file)"
 
 
 #: What a system run keeps per sample: t, x, v, F and F_applied (float64) [bytes].
@@ -42,7 +77,7 @@ BYTES_PER_SAMPLE = 40
 
 @dataclass(frozen=True)
 class System:
-    """A one-degree-of-freedom system (MODELS.md 8; the ``[system]`` file of INTERFACE.md).
+    """A one-degree-of-freedom system (:ref:`guide-systems`; the ``[system]`` file, :ref:`formats-system`).
 
     Parameters
     ----------
@@ -83,22 +118,11 @@ class System:
     frequency: float = 0.0
 
     def __post_init__(self):
-        for item in fields(self):
-            value = getattr(self, item.name)
-            if isinstance(value, bool) or not isinstance(value, (int, float, np.integer,
-                                                                 np.floating)):
-                raise InputError(f"The '{item.name}' parameter of the system must be a number. "
-                                 f"Got {describe(value)} instead.")
-            if not math.isfinite(value):
-                raise InputError(f"The '{item.name}' parameter of the system must be finite. "
-                                 f"Got {describe(value)} instead.")
-            if item.name in _POSITIVE and not value > 0.0:
-                raise InputError(f"The '{item.name}' parameter of the system must be positive. "
-                                 f"Got {describe(value)} instead.")
-            if item.name in _NONNEGATIVE and not value >= 0.0:
-                raise InputError(f"The '{item.name}' parameter of the system must be "
-                                 f"non-negative. Got {describe(value)} instead.")
-            object.__setattr__(self, item.name, float(value))
+        # The one check of every value, whether it came from Python or from a file.
+        for key, declared in _KEYS.items():
+            value = check_number(_owner(key), declared.field, getattr(self, declared.field),
+                                 declared.bound)
+            object.__setattr__(self, declared.field, value)
         if self.time_step > self.duration:
             raise InputError(f"The 'time_step' parameter of the system must not exceed its "
                              f"duration ({self.duration!r}). Got {self.time_step!r} instead.")
@@ -124,39 +148,93 @@ class System:
 
 #: The keys of a ``[system]`` file (dotted: ``spring_drive.stiffness`` is
 #: ``[system.spring_drive] stiffness``) and the :class:`System` field each sets.
-FILE_KEYS = {
-    "mass": "mass", "duration": "duration", "time_step": "time_step",
-    "spring_drive.stiffness": "spring_stiffness", "spring_drive.velocity": "drive_velocity",
-    "force.offset": "offset", "force.rate": "rate", "force.amplitude": "amplitude",
-    "force.frequency": "frequency",
-}
+FILE_KEYS = {key: declared.field for key, declared in _KEYS.items()}
+
+
+class _Missing:
+    """The value of a required key a file does not give (refused by :func:`system_from_keys`)."""
+
+    def __repr__(self):
+        return "<missing>"
+
+
+_MISSING = _Missing()
 
 
 def system_from_keys(values) -> System:
-    """A :class:`System` from dotted ``[system]`` file keys (:data:`FILE_KEYS`); absent keys default."""
-    return System(**{FILE_KEYS[key]: value for key, value in values.items()})
+    """A :class:`System` from dotted ``[system]`` file keys (:data:`FILE_KEYS`).
+
+    The keys a file has (:func:`file_keys_of`): each known, the required
+    ones given, a drive table present; absent optional keys default.  Each
+    value is then checked by :class:`System`, so that a value gets the same
+    message from a file as from Python.
+    """
+    for key, value in values.items():
+        if key in _DRIVES:
+            raise InputError(f"The '{key}' table of [system] must be a table of keys "
+                             f"([system.{key}]). Got {describe(value)} instead.")
+        if key not in _KEYS:
+            raise InputError(f"Unknown key '{key}' in [system]; expected one of: "
+                             f"{', '.join(_KEYS)}.")
+    tables = {key.rpartition(".")[0] for key in values} - {""}
+    for key, declared in _KEYS.items():
+        table = key.rpartition(".")[0]
+        if declared.required and (not table or table in tables) \
+                and values.get(key, _MISSING) is _MISSING:
+            raise InputError(f"Missing key '{key}' in [system].")
+    if not tables & set(_DRIVES):
+        raise InputError("The [system] table has no drive; expected a [system.spring_drive] "
+                         "or a [system.force] table (or both).")
+    return System(**{_KEYS[key].field: value for key, value in values.items()})
 
 
 def load_system(path) -> System:
-    """Read a ``[system]`` file (TOML, or JSON; INTERFACE.md) into a :class:`System`.
+    """Read a ``[system]`` file (TOML, or JSON; :ref:`formats-system`) into a :class:`System`.
 
-    Errors raise :class:`polind.InputError` naming the file and the key.
+    Errors raise :class:`polind.InputError` naming the file and the key; a
+    bad value has the message :class:`System` gives in Python, after the
+    file's name.
     """
     from polind import io
 
-    return system_from_keys(file_keys_of(io.read_system_file(path)))
+    table = io.read_system_file(path)
+    try:
+        return system_from_keys(file_keys_of(table))
+    except InputError as error:
+        raise InputError(f"{os.fspath(path)}: {error}") from None
 
 
 def file_keys_of(table) -> dict:
-    """The dotted keys of a system as :func:`polind.io.read_system_file` reads it.
+    """The dotted keys of a ``[system]`` table as :func:`polind.io.read_system_file` reads it.
 
-    Only the keys of the tables the file has (a key of an absent table is not
-    there to set).
+    Nothing is checked here (:func:`system_from_keys` does).  The keys of
+    the tables the file has, each sub-table's keys dotted, with the
+    defaults of that table's absent optional keys (a key of an absent table
+    is not there to set); a sub-table that is not a table stays one key.
+    Integers are floats, as a :class:`System` holds them.
     """
-    values = {key: table[key] for key in ("mass", "duration", "time_step")}
-    for name in ("spring_drive", "force"):
-        values.update({f"{name}.{key}": value for key, value in (table.get(name) or {}).items()})
+    values = {}
+    for key, value in table.items():
+        if key in _DRIVES and isinstance(value, dict):
+            values.update({f"{key}.{inner}": _float(item) for inner, item in value.items()})
+        else:
+            values[key] = value if key in _DRIVES else _float(value)
+    defaults = {item.name: item.default for item in fields(System)}
+    for key, declared in _KEYS.items():
+        table_name, dotted, _ = key.rpartition(".")
+        if key not in values and (not dotted or isinstance(table.get(table_name), dict)):
+            values[key] = _MISSING if declared.required else defaults[declared.field]
     return values
+
+
+def _float(value):
+    """A TOML integer as a float (a bigger one than a float holds is left for the check)."""
+    if isinstance(value, int) and not isinstance(value, bool):
+        try:
+            return float(value)
+        except OverflowError:
+            return value
+    return value
 
 
 @dataclass
@@ -168,7 +246,7 @@ class SystemResult:
     t, x, v : ndarray
         Time [s], position [m] and velocity [m/s] of the body at every sample.
     force : ndarray
-        Friction force [N] (MODELS.md 0 sign convention).  For a Coulomb or
+        Friction force [N] (the sign convention of :ref:`guide-conventions`).  For a Coulomb or
         Stribeck body at rest it is the static force that holds it.
     applied : ndarray
         F_applied(t, x) [N]: the drive spring's force plus the applied force.
@@ -183,6 +261,9 @@ class SystemResult:
     force: np.ndarray
     applied: np.ndarray
     final_state: State
+
+    def __repr__(self):
+        return summary_repr(self, {"x": "m", "v": "m/s", "force": "N", "applied": "N"})
 
 
 def initial_friction(kernel, velocity, applied):
@@ -206,7 +287,7 @@ def _finite(name, value):
 
 def simulate_system(model: FrictionModel, system: System, *, applied=None, initial_position=0.0,
                     initial_velocity=0.0, method="bdf2", progress=None) -> SystemResult:
-    """Simulate a body with friction driven by a spring and/or a force (MODELS.md 8).
+    """Simulate a body with friction driven by a spring and/or a force (:ref:`guide-systems`).
 
     Each step moves the body at a constant velocity ``w`` solved from the
     implicit momentum equation, with the friction force at the end of the

@@ -1,14 +1,17 @@
-"""Parameter identification: fit a friction model to measured force (INTERFACE.md ``[fit]``).
+"""Parameter identification: fit a friction model to measured force.
+
+The user guide, :ref:`guide-identification`; the ``[fit]`` table, :ref:`formats-fit`.
 
 Three tools, from general to structured:
 
 * :func:`identify` -- bounded nonlinear least squares on the simulated force
   (``scipy.optimize.least_squares``, trust-region-reflective) for any model
-  of MODELS.md: the model's current values are the starting point, ``free``
+  of polind: the model's current values are the starting point, ``free``
   names the keys to identify and ``bounds`` limits them.  Standard errors come
   from the Jacobian at the solution.  This is ``polind fit``.
 * :func:`identify_maxwell_slip` and :func:`identify_gms` -- the element set
-  of a Maxwell-slip structure (MODELS.md 4, 5) from a presliding record by
+  of a Maxwell-slip structure (:ref:`guide-maxwell-slip`, :ref:`guide-gms`) from a
+  presliding record by
   non-negative least squares, a good starting point for :func:`identify`.
   Once the slip distances ``D_i`` are fixed, element ``i`` of a Maxwell-slip
   model has the deflection ``z_i`` of a spring whose deflection is clipped to
@@ -17,7 +20,7 @@ Three tools, from general to structured:
   therefore *linear* in the break-away forces: ``F = A W`` with
   ``A[k, i] = z_i(x_k) / D_i`` in ``[-1, 1]``, and ``W >= 0`` is an NNLS
   problem over a grid of slip distances.
-* :func:`identify_stribeck` -- the static Stribeck curve (MODELS.md 0, 1)
+* :func:`identify_stribeck` -- the static Stribeck curve (:ref:`guide-stribeck-curve`)
   from steady-state ``(v, F)`` points.
 
 :func:`plot_fit` draws measured against fitted force (``polind fit --plot``).
@@ -55,11 +58,11 @@ mapping (the delta method).  A direction the data cannot determine (``J``
 rank-deficient) gives an infinite standard error to every parameter it
 involves.
 
-Safe fits (INTERFACE.md ``[fit]``)
-----------------------------------
+Safe fits (:ref:`guide-fit-warnings`)
+-------------------------------------
 A free key without ``[fit.bounds]`` gets default bounds derived from the
-fitted data by its unit (:func:`default_bounds`, the table there and in the
-README), never an unbounded range.  Every fit lists its ``warnings``: a
+fitted data by its unit (:func:`default_bounds`; the table is there and on the
+documentation's file formats page), never an unbounded range.  Every fit lists its ``warnings``: a
 parameter that ended at a bound, one the data do not determine (standard
 error larger than its value, or not finite), a data column or signal the
 model does not use, a start outside the default bounds, a solver that
@@ -81,6 +84,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from polind.errors import InputError
+from polind.resources import check_memory
 from polind.validation import check_number, describe
 from polind.models import FrictionModel, model_from_dict
 from polind.models.params import Param, Table
@@ -273,7 +277,8 @@ class _Rule:
 
 
 #: The default bounds of a free parameter without [fit.bounds], by the unit of its
-#: declaration (INTERFACE.md: never an unbounded range).  The README repeats this table.
+#: declaration (never an unbounded range).  The documentation's file formats page shows
+#: this table (docs/_ext/polind_docs.py reads it).
 DEFAULT_RANGES = {
     "N": _Rule(lambda s: s.force, 1e-3, 10.0, "the force amplitude A = max |F|"),
     "m/s": _Rule(lambda s: s.speed, 1e-3, 10.0, "the largest speed V of the record"),
@@ -339,7 +344,7 @@ def _fittable_keys(model: FrictionModel) -> list[str]:
         for entry in entries:
             if isinstance(entry, Table):
                 yield from walk(entry.entries, f"{prefix}{entry.key}.")
-            elif entry.kind in ("float", "list", "pair"):
+            elif entry.kind in ("float", "list", "pair") and entry.fittable:
                 yield f"{prefix}{entry.key}"
     return list(walk(model.parameters, ""))
 
@@ -687,7 +692,7 @@ class FitResult:
         The fitted model's force at every sample of the data [N] (with a
         hold-out, the fitted part and the prediction of the rest, one run).
     warnings : tuple of str
-        What the user should know about the fit (INTERFACE.md ``[fit]``): a
+        What the user should know about the fit (:ref:`guide-fit-warnings`): a
         parameter at a bound, one the data do not determine, a column or
         signal the model does not use, ...; empty when all is well.
     holdout_rms_error : float or None
@@ -717,6 +722,15 @@ class FitResult:
     fitted_samples: int = 0
     parameter_count: int = 0
 
+    def __repr__(self):
+        held_out = ("" if self.holdout_rms_error is None
+                    else f", holdout_rms_error {self.holdout_rms_error:.4g} N")
+        return (f"FitResult({self.model.type}, free {', '.join(self.free) or 'nothing'} "
+                f"({self.parameter_count} values), rms_error {self.rms_error:.4g} N"
+                f"{held_out} on {self.fitted_samples} samples, "
+                f"{'converged' if self.success else 'not converged'} after "
+                f"{self.iterations} iterations, {len(self.warnings)} warnings)")
+
     @property
     def aic(self) -> float:
         """Akaike's information criterion of the fitted part (lower is better).
@@ -725,7 +739,7 @@ class FitResult:
         ``n`` fitted residuals at the maximum-likelihood variance ``RSS / n``,
         without the constant ``n (1 + ln 2 pi)`` that every model fitted to
         the same samples shares, plus twice the ``k`` free values
-        (:attr:`parameter_count`).  Only differences between models fitted
+        (``parameter_count``).  Only differences between models fitted
         to the same samples mean anything.
         """
         n = self.fitted_samples
@@ -740,7 +754,7 @@ class FitResult:
             if self.rms_error > 0.0 else -math.inf
 
     def to_fit_table(self) -> dict:
-        """The ``[fit.result]`` table of INTERFACE.md.
+        """The ``[fit.result]`` table of a fitted model file (:ref:`formats-fit`).
 
         ``{"rms_error": ..., "holdout_rms_error": ... (with a hold-out),
         "iterations": ..., "warnings": [...], key: {"value": ...,
@@ -927,6 +941,31 @@ def parse_fit(model, *, free=None, bounds=None) -> tuple[FrictionModel, list[str
     return start, keys, pairs
 
 
+# What a fit holds per sample of the data [bytes] (tracemalloc's peak: 528 bytes at 8 free
+# values, 1873 at 32): the data's checked copies and paths, one simulation with its
+# residual on each Jacobian thread, and per free value the Jacobian's column, its stacked
+# copy and the solver's scaled copies and factors.
+_FIT_BYTES = 96.0
+_FIT_BYTES_PER_THREAD = 40.0
+_FIT_BYTES_PER_VALUE = 64.0
+# The element fit per sample (480 bytes at 24 slip distances): the data and a path, and
+# per slip distance the unit element's response, its stacked and scaled copies.
+_ELEMENT_FIT_BYTES = 96.0
+_ELEMENT_FIT_BYTES_PER_COLUMN = 24.0
+
+
+def fit_bytes_per_sample(model: FrictionModel, free) -> float:
+    """The memory :func:`identify` holds per sample of the data [bytes], an estimate.
+
+    ``model`` and ``free`` as :func:`parse_fit` returns them: each free key
+    counts its values (an element list each element), and the Jacobian's
+    threads are counted as if every core ran one.
+    """
+    values = sum(np.atleast_1d(np.asarray(_get(model.params, key))).size for key in free)
+    threads = max(1, min(os.cpu_count() or 1, values))
+    return _FIT_BYTES + _FIT_BYTES_PER_THREAD * threads + _FIT_BYTES_PER_VALUE * values
+
+
 def _holdout_split(holdout, size: int) -> int | None:
     """The number of fitted samples for a hold-out fraction (None: fit them all)."""
     if holdout is None:
@@ -1000,7 +1039,7 @@ def identify(model, data, *, free=None, bounds=None, holdout=None, max_evaluatio
         Per free key ``[low, high]`` in the parameter's unit (one pair for all
         entries of a list key).  Default: the document's ``[fit.bounds]``; a
         free key without bounds gets the default bounds derived from the
-        data by its unit (:func:`default_bounds`), never an unbounded range.
+        data by its unit (:func:`~polind.identification.default_bounds`), never an unbounded range.
     holdout : float, optional
         A fraction ``F`` in (0, 1): fit the first ``round((1 - F) n)`` of the
         ``n`` samples (the earliest: ``t`` increases) and report the RMS error
@@ -1050,7 +1089,9 @@ def identify(model, data, *, free=None, bounds=None, holdout=None, max_evaluatio
         constant force, NaN, non-increasing ``t``), a bad ``holdout``, or a
         bad ``[fit]`` (unknown or non-numeric free key, a free key without a
         starting value, bounds for a key that is not free, low >= high,
-        bounds that exclude the starting value), naming the key or column.
+        bounds that exclude the starting value), naming the key or column;
+        a fit whose estimated memory (``fit_bytes_per_sample`` times the
+        samples) passes the limit of :mod:`polind.resources`.
 
     Examples
     --------
@@ -1087,6 +1128,8 @@ def identify(model, data, *, free=None, bounds=None, holdout=None, max_evaluatio
     measured = record if fitted_samples is None else record.head(fitted_samples)
     frees = _build_free(start, keys, given_bounds, measured, notes)
     n_variables = sum(f.size for f in frees)
+    check_memory(record.size * fit_bytes_per_sample(start, keys),
+                 f"Fitting {n_variables} free values to {record.size:.3g} samples of data")
     if measured.size <= n_variables:
         raise InputError(f"Identification of {n_variables} parameter values needs more samples "
                          f"than that. Got {measured.size} samples of 't'"
@@ -1270,6 +1313,10 @@ def identify_maxwell_slip(data, slip_distances=None, n=24, *, viscous=False):
     measured = _measurement(data, normal_load_ok=False)
     path = measured.path()
     grid = _slip_grid(path, slip_distances, n)
+    columns = grid.size + bool(viscous)
+    check_memory(measured.size * (_ELEMENT_FIT_BYTES + _ELEMENT_FIT_BYTES_PER_COLUMN * columns),
+                 f"The element fit of {grid.size} slip distances to {measured.size:.3g} "
+                 f"samples of data")
     design = _element_responses(measured, grid)
     if viscous:
         design = np.column_stack([design, path.sample_velocity])
@@ -1294,7 +1341,7 @@ def identify_gms(data, slip_distances=None, n=24, *, model=None):
     """A GMS starting model: element stiffnesses and weights from :func:`identify_maxwell_slip`.
 
     GMS with ``Fs = Fc`` and a large attraction ``C`` is the Maxwell-slip
-    model with ``W_i = alpha_i Fc`` (MODELS.md 5), so the NNLS element set
+    model with ``W_i = alpha_i Fc`` (:ref:`guide-gms`), so the NNLS element set
     gives ``alpha_i = W_i / sum W`` and ``k_i``; the Coulomb force is
     ``sum W`` (the sliding force of the record).
 

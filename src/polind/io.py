@@ -1,8 +1,8 @@
 """polind's files: model, system and motion files, and writes that are atomic.
 
-The formats are those of INTERFACE.md: model files (``[model]`` and an
+The formats are those of the user guide's :ref:`formats-model-files`: model files (``[model]`` and an
 optional ``[fit]``, TOML or JSON), one-degree-of-freedom system files
-(``[system]``, MODELS.md section 8), and CSV tables of samples with a header
+(``[system]``, :ref:`formats-system`), and CSV tables of samples with a header
 row (``t`` and one of ``x``, ``v``; optionally ``normal_load``; ``F`` for
 measured data), or Parquet tables with the same columns when the name ends
 in ``.parquet``.  This module holds no physics: it reads, checks the shape of
@@ -11,7 +11,9 @@ what it read, and writes.  The models validate their own parameters.
 Big tables go at disk speed: pyarrow's C reader parses a CSV file of 1 MiB or
 more (Python's row-by-row reader takes any file it refuses, and names the bad
 row), and its writer formats a big table on every core.  Every float64 reads
-back bit for bit.
+back bit for bit.  A table is sized before it is read (:func:`table_size`) and
+refused when reading it would pass the memory limit (:mod:`polind.resources`);
+:func:`check_table_memory` adds what a command does with the rows.
 
 Every problem with a file raises :class:`~polind.errors.InputError` with a
 one-line message that starts with the file's path and names the row (its
@@ -43,6 +45,7 @@ from pathlib import Path
 import numpy as np
 
 from polind.errors import InputError, describe
+from polind.resources import check_memory
 
 __all__ = [
     "MEASUREMENT_COLUMNS",
@@ -51,12 +54,15 @@ __all__ = [
     "atomic_write_bytes",
     "atomic_write_text",
     "check_output_path",
+    "check_table_memory",
     "read_csv_columns",
     "read_heights_csv",
     "read_model_file",
     "read_motion_csv",
     "read_parquet_columns",
     "read_system_file",
+    "save_model",
+    "table_size",
     "write_csv_atomic",
     "write_model_file",
     "write_parquet_atomic",
@@ -138,7 +144,7 @@ def _check_tables(name, document, required, allowed):
 
 
 def read_model_file(path) -> dict:
-    """Read a model file (INTERFACE.md "Model files") without validating parameters.
+    """Read a model file (:ref:`formats-model-files`) without validating parameters.
 
     Parameters
     ----------
@@ -330,10 +336,11 @@ def _read_csv_fast(name, require, one_of, optional, progress=None):
     lines are skipped, as the careful reader skips them.
     """
     try:
+        # Looked at before opening: a pipe opened here would lose what it carries.
+        info = os.stat(name)
+        if not stat.S_ISREG(info.st_mode) or info.st_size < _FAST_READ_BYTES:
+            return None
         with open(name, "rb") as stream:
-            info = os.fstat(stream.fileno())
-            if not stat.S_ISREG(info.st_mode) or info.st_size < _FAST_READ_BYTES:
-                return None
             header = _header_line(stream.read(_HEADER_BYTES))
     except OSError:
         return None                               # the careful reader names the problem
@@ -460,6 +467,73 @@ def _is_parquet(path) -> bool:
     return os.fspath(path).lower().endswith(".parquet")
 
 
+# Memory of reading a table [bytes]: the fast readers' peak per number (pyarrow's table and
+# the NumPy columns side by side; 48 bytes a row measured for t,x at 1e7 rows), and Python's
+# row-by-row reader's per byte of the file (its text, lines and rows; it reads a file the
+# fast reader refuses).
+_READ_BYTES_PER_NUMBER = 24
+_CAREFUL_READ_BYTES_PER_BYTE = 6
+
+
+def table_size(path) -> tuple[int, int, bool]:
+    """``(rows, columns, exact)`` of a CSV or Parquet table, without reading all of it.
+
+    A Parquet file's metadata gives them exactly.  A CSV file's columns are
+    those of its header, and its data rows are counted in a file of 64 KiB or
+    less; a bigger one's are its size over the mean length of the rows in
+    its first 64 KiB (``exact`` False).  A file that cannot be read gives
+    ``(0, 0, True)``: its reader names the problem.
+    """
+    name = os.fspath(path)
+    if _is_parquet(name):
+        try:
+            import pyarrow.parquet as pq
+
+            metadata = pq.read_metadata(name)
+        except Exception:                      # noqa: BLE001 - the reader names it
+            return 0, 0, True
+        return int(metadata.num_rows), int(metadata.num_columns), True
+    try:
+        if not stat.S_ISREG(os.stat(name).st_mode):
+            return 0, 0, True        # a pipe is not opened twice (its data would be lost)
+        with open(name, "rb") as stream:
+            size = os.fstat(stream.fileno()).st_size
+            prefix = stream.read(_HEADER_BYTES)
+    except OSError:
+        return 0, 0, True
+    header = _header_line(prefix)
+    if header is None:
+        return 0, 0, True
+    _, text, offset = header
+    columns = text.count(",") + 1
+    body = prefix[offset:].replace(b"\r\n", b"\n").replace(b"\r", b"\n")
+    if len(prefix) == size:
+        return sum(1 for line in body.split(b"\n") if line.strip()), columns, True
+    complete = body[:body.rfind(b"\n") + 1]
+    rows = sum(1 for line in complete.split(b"\n") if line.strip())
+    # The shortest row is a digit and a comma per column: never fewer rows than that allows.
+    mean = len(complete) / rows if rows else 2.0 * columns
+    return math.ceil((size - offset) / mean), columns, False
+
+
+def check_table_memory(path, bytes_per_row=0.0, use="reading") -> None:
+    """Refuse (InputError naming the file) a table whose reading and use would pass the limit.
+
+    The estimate, made before anything is read: the rows of
+    :func:`table_size` times the fast reader's peak per row
+    (``_READ_BYTES_PER_NUMBER`` a number) and ``bytes_per_row`` that the
+    caller's run holds per row besides.  ``use`` names the run in the
+    message (``"simulating"``...).  The limit is
+    :func:`polind.resources.memory_limit` (``--max-memory``).
+    """
+    name = os.fspath(path)
+    rows, columns, exact = table_size(name)
+    check_memory(rows * (_READ_BYTES_PER_NUMBER * columns + bytes_per_row),
+                 f"{name}: {use} its {rows:.3g} rows of {columns} column"
+                 f"{'s' if columns != 1 else ''}"
+                 f"{'' if exact else ' (estimated from the size of the file)'}")
+
+
 def read_csv_columns(path, require, one_of=(), optional=(), *, min_rows=1,
                      increasing=None, positive=(), progress=None) -> dict[str, np.ndarray]:
     """Read a CSV table of numbers with a header row, checking its columns.
@@ -516,6 +590,7 @@ def read_csv_columns(path, require, one_of=(), optional=(), *, min_rows=1,
     rules = {"min_rows": min_rows, "increasing": increasing, "positive": positive}
     if _is_parquet(name):
         return read_parquet_columns(name, require, one_of, optional, progress=progress, **rules)
+    check_table_memory(name)
     table = _read_csv_fast(name, require, one_of, optional, progress)
     if table is not None:
         if all(np.isfinite(values).all() for values in table.values()):
@@ -523,11 +598,25 @@ def read_csv_columns(path, require, one_of=(), optional=(), *, min_rows=1,
             _report_read(name, progress)
             return table
         del table     # a NaN or an infinity: named by the careful reader as the text has it
+    _check_careful_memory(name)
     table, row_numbers = _read_csv_carefully(name, require, one_of, optional, min_rows)
     _check_values(name, table, lambda indices: [row_numbers[index] for index in indices],
                   **rules)
     _report_read(name, progress)
     return table
+
+
+def _check_careful_memory(name):
+    """Refuse reading a big file row by row (the fast reader refused it) beyond the limit."""
+    try:
+        size = os.path.getsize(name)
+    except OSError:
+        return                                    # the careful reader names the problem
+    if size >= _FAST_READ_BYTES:
+        check_memory(size * _CAREFUL_READ_BYTES_PER_BYTE,
+                     f"{name}: reading its {size / 1e6:.3g} MB row by row (a row that the "
+                     f"fast reader does not take, such as a nan, a quote or a blank line "
+                     f"with spaces)")
 
 
 def _report_read(name, progress):
@@ -568,6 +657,7 @@ def read_parquet_columns(path, require, one_of=(), optional=(), *, min_rows=1,
         raise InputError(f"{name}: cannot read the file: {exc.strerror or exc}") from None
     if stat.S_ISDIR(info.st_mode):
         raise InputError(f"{name}: is a directory; expected a file")
+    check_table_memory(name)
 
     import pyarrow as pa
     import pyarrow.parquet as pq
@@ -662,67 +752,21 @@ def read_motion_csv(path, require=MOTION_COLUMNS["require"], one_of=MOTION_COLUM
 def read_heights_csv(path) -> np.ndarray:
     """Measured asperity summit heights [m]: a CSV with one column ``h``.
 
-    The ``heights_file`` of a direct-summation Pol-Ind model (INTERFACE.md).
+    The ``heights_file`` of a direct-summation Pol-Ind model (:ref:`formats-measured-surface`).
     """
     return read_csv_columns(path, require=("h",))["h"]
 
 
 # --- the [system] table ------------------------------------------------------------------
 
-_REQUIRED = object()
-
-# Each key: (default or _REQUIRED, the range it must lie in).
-_SYSTEM_SCHEMA = {
-    "system": {
-        "mass": (_REQUIRED, "positive"),
-        "duration": (_REQUIRED, "positive"),
-        "time_step": (_REQUIRED, "positive"),
-    },
-    "system.spring_drive": {
-        "stiffness": (_REQUIRED, "non-negative"),
-        "velocity": (_REQUIRED, "finite"),
-    },
-    "system.force": {
-        "offset": (0.0, "finite"),
-        "rate": (0.0, "finite"),
-        "amplitude": (0.0, "finite"),
-        "frequency": (0.0, "non-negative"),
-    },
-}
-_RANGES = {
-    "positive": lambda value: value > 0.0,
-    "non-negative": lambda value: value >= 0.0,
-    "finite": lambda value: True,
-}
-_SYSTEM_SUBTABLES = ("spring_drive", "force")
-
-
-def _system_table(name, where, table) -> dict:
-    """Check one table of the system file against its schema; return its floats."""
-    schema = _SYSTEM_SCHEMA[where]
-    subtables = _SYSTEM_SUBTABLES if where == "system" else ()
-    for key in table:
-        if key not in schema and key not in subtables:
-            allowed = ", ".join((*schema, *subtables))
-            raise InputError(f"{name}: unknown key '{where}.{key}'; expected one of: {allowed}")
-    clean = {}
-    for key, (default, allowed_range) in schema.items():
-        value = table.get(key, default)
-        if value is _REQUIRED:
-            raise InputError(f"{name}: missing key '{where}.{key}'")
-        if isinstance(value, bool) or not isinstance(value, (int, float)) \
-                or not math.isfinite(value):
-            raise InputError(f"{name}: key '{where}.{key}' must be a finite number, "
-                             f"got {describe(value)}")
-        if not _RANGES[allowed_range](value):
-            raise InputError(f"{name}: key '{where}.{key}' must be {allowed_range}, "
-                             f"got {describe(value)}")
-        clean[key] = float(value)
-    return clean
-
 
 def read_system_file(path) -> dict:
-    """Read a one-degree-of-freedom system file (INTERFACE.md, MODELS.md section 8).
+    """Read a one-degree-of-freedom system file (:ref:`formats-system`).
+
+    Only the file is checked here: its keys and values are checked by
+    :func:`polind.load_system`, which declares them (:mod:`polind.dynamics`)
+    and gives a bad value the message a :class:`polind.System` built in
+    Python gives, after the file's name.
 
     Parameters
     ----------
@@ -736,16 +780,13 @@ def read_system_file(path) -> dict:
     Returns
     -------
     dict
-        ``mass``, ``duration``, ``time_step`` (floats), ``spring_drive`` and
-        ``force`` (dicts of floats, or ``None`` when the table is absent).
+        The ``[system]`` table as the file has it.
 
     Raises
     ------
     InputError
-        Naming the file and the key: unknown or missing keys, values that are
-        not finite numbers, a non-positive mass, duration or time step, a time
-        step longer than the duration, a negative spring stiffness or force
-        frequency, neither drive present.
+        Naming the file: missing or unreadable, not valid TOML/JSON, no
+        ``[system]`` table, or a top-level key other than ``system``.
 
     Examples
     --------
@@ -754,28 +795,11 @@ def read_system_file(path) -> dict:
     >>> _ = system.write_text("[system]\\nmass = 1.0\\nduration = 2.0\\ntime_step = 0.01\\n"
     ...                       "[system.force]\\namplitude = 0.4\\nfrequency = 1.0\\n")
     >>> read_system_file(system)["force"]
-    {'offset': 0.0, 'rate': 0.0, 'amplitude': 0.4, 'frequency': 1.0}
+    {'amplitude': 0.4, 'frequency': 1.0}
     """
-    name = os.fspath(path)
     document = _read_document(path)
-    _check_tables(name, document, required=("system",), allowed=("system",))
-    table = document["system"]
-    system = _system_table(name, "system", table)
-    if system["time_step"] > system["duration"]:
-        raise InputError(f"{name}: key 'system.time_step' must not exceed system.duration "
-                         f"({system['duration']!r}), got {system['time_step']!r}")
-    for key in _SYSTEM_SUBTABLES:
-        if key not in table:
-            system[key] = None
-            continue
-        if not isinstance(table[key], dict):
-            raise InputError(f"{name}: 'system.{key}' must be a table ([system.{key}]), "
-                             f"got {describe(table[key])}")
-        system[key] = _system_table(name, f"system.{key}", table[key])
-    if system["spring_drive"] is None and system["force"] is None:
-        raise InputError(f"{name}: [system] has no drive; expected a [system.spring_drive] "
-                         f"or a [system.force] table (or both)")
-    return system
+    _check_tables(os.fspath(path), document, required=("system",), allowed=("system",))
+    return document["system"]
 
 
 # --- writing -----------------------------------------------------------------------------
@@ -1140,17 +1164,74 @@ def plain_data(value, *, for_toml=True):
     return value
 
 
+def model_file_text(document: dict, *, as_json=False) -> str:
+    """The text of a model file holding ``document``: TOML (tomli-w), or indented JSON.
+
+    Floats are written so that they read back bit for bit; ``None`` entries
+    are left out (an absent key means its default).
+    """
+    plain = plain_data(document)
+    if as_json:
+        return json.dumps(plain, indent=2) + "\n"
+    import tomli_w
+
+    return tomli_w.dumps(plain)
+
+
 def write_model_file(path, document: dict) -> None:
     """Write a model-file document (``{"model": {...}, "fit": {...}}``) atomically.
 
     TOML, or JSON (indented) if the name ends in ``.json``; the inverse of
     :func:`read_model_file`.
     """
-    plain = plain_data(document)
-    if Path(path).suffix.lower() == ".json":
-        text = json.dumps(plain, indent=2) + "\n"
-    else:
-        import tomli_w
+    atomic_write_text(path, model_file_text(document,
+                                            as_json=Path(path).suffix.lower() == ".json"))
 
-        text = tomli_w.dumps(plain)
-    atomic_write_text(path, text)
+
+def save_model(model, path) -> None:
+    """Write ``model`` to a model file that :func:`polind.load_model` reads back equal.
+
+    Parameters
+    ----------
+    model : polind.FrictionModel
+        Any registered model type, with its nested tables, ``reference_load``
+        and ``[model.compliance]``.
+    path : str or os.PathLike
+        TOML, or JSON (indented) if the name ends in ``.json``; ``-`` writes
+        to standard output.  Written like every polind output
+        (:ref:`cli-exit-status`): through a temporary file that replaces an existing
+        file only once the whole model is on disk; a directory, or the
+        model's own ``heights_file`` or ``topography``, is refused with an
+        :class:`~polind.InputError`.
+
+    A relative ``discretisation.heights_file`` or ``surface.topography`` is
+    written as an absolute path (the file the model reads now), so the saved
+    model reads the same summits wherever it is saved.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile, polind
+    >>> model = polind.model_from_dict({"model": {"type": "lugre", "bristle_stiffness": 1e5,
+    ...     "bristle_damping": 316.0, "viscous_coefficient": 0.4, "coulomb_force": 1.0,
+    ...     "static_force": 1.5, "stribeck_velocity": 1e-3}})
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "lugre.toml"
+    >>> polind.save_model(model, path)
+    >>> polind.load_model(path) == model
+    True
+    """
+    # A model is known by what it does (io sits below the models and does not import them).
+    document = model.to_dict() if callable(getattr(model, "to_dict", None)) else None
+    if not (isinstance(document, dict) and isinstance(document.get("model"), dict)
+            and "type" in document["model"]):
+        raise InputError(f"save_model needs a polind.FrictionModel. Got {describe(model)} "
+                         f"instead.")
+    # The files the model reads: written absolute, and never replaced by the model file.
+    inputs = []
+    for table, key in (("discretisation", "heights_file"), ("surface", "topography")):
+        entries = document["model"].get(table)
+        value = entries.get(key) if isinstance(entries, dict) else None
+        if value:
+            entries[key] = os.path.abspath(value)
+            inputs.append(entries[key])
+    check_output_path(path, inputs=inputs)
+    write_model_file(path, document)

@@ -16,6 +16,10 @@ from polind.errors import InputError
 __all__ = ["available_memory", "memory_limit", "set_memory_limit", "check_memory"]
 
 _LIMIT: float | None = None
+# Below this estimate [bytes] the default limit (half of the available memory) is taken to
+# pass without asking the system: a machine that cannot spare it could not run Python's
+# numba and NumPy either.
+_NEVER_REFUSED = 16e6
 
 
 def available_memory() -> float:
@@ -59,8 +63,11 @@ def check_memory(estimate: float, what: str) -> None:
     """Refuse (InputError) a run whose ``estimate`` [bytes] passes the limit.
 
     ``what`` names the setting that asks for it, e.g. ``"the system's duration /
-    time_step (1e9 samples)"``.
+    time_step (1e9 samples)"``.  Under the default limit an estimate below 16 MB
+    passes without reading the system's memory (cheap enough for every call).
     """
+    if _LIMIT is None and estimate < _NEVER_REFUSED:
+        return                  # without reading /proc/meminfo: small runs check often
     limit = memory_limit()
     if estimate > limit:
         source = "set by --max-memory" if _LIMIT is not None else \

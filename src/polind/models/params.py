@@ -1,4 +1,4 @@
-"""Parameters declared as data and checked in one place (INTERFACE.md model files).
+"""Parameters declared as data and checked in one place (model files, :ref:`formats-model-files`).
 
 Each model lists its :class:`Param` entries; :func:`validate_table` checks a
 ``[model]`` table against them and builds every error message from one
@@ -38,6 +38,10 @@ class Param:
     default: object = REQUIRED
     choices: tuple = ()
     unit: str = ""
+    #: Whether :func:`polind.identify` may free it (a number describing how a
+    #: measurement is read, such as a height map's pixel size, is not a model
+    #: parameter to fit).
+    fittable: bool = True
 
 
 @dataclass(frozen=True)
@@ -82,7 +86,7 @@ def validate_table(model_type, entries, table, prefix=""):
     """Check ``table`` against the declared ``entries``; return a clean dict.
 
     Unknown keys, missing required keys, wrong types, non-finite and
-    out-of-range values raise :class:`InputError` naming the key.  Defaults
+    out-of-range values raise :class:`~polind.InputError` naming the key.  Defaults
     fill the keys that have one.
     """
     ctx = _Context(model_type, prefix)
