@@ -159,6 +159,35 @@ def test_no_lag_loop_in_memoryless_or_rate_independent_models(demo):
         assert np.max(np.abs(result.metrics["relative_area"])) < 1e-12
 
 
+def test_loop_area_is_signed_and_free_of_rounding_noise():
+    """The closed integral of F dv: positive for a loop travelled in the lag direction
+    (higher force while v rises), negative the other way, and exactly 0 -- not a rounding
+    residue of either sign -- for a force that does not change around the loop."""
+    phase = np.linspace(0.0, 2.0 * np.pi, 4001)
+    v = 1e-3 + 0.9e-3 * np.sin(phase)
+    force = 12.0 + 0.5 * np.cos(phase)        # leads v by a quarter period: clockwise
+    expected = np.pi * 0.9e-3 * 0.5
+    assert phenomena._loop_area(v, force) == pytest.approx(expected, rel=1e-5)
+    assert phenomena._loop_area(v, 24.0 - force) == pytest.approx(-expected, rel=1e-5)
+    assert phenomena._loop_area(v, np.full_like(v, 15.0)) == 0.0
+    # a force that wobbles by a few ulps around 15 N: noise, not a loop
+    wobble = 15.0 + 4.0 * np.spacing(15.0) * np.sign(np.sin(7.0 * phase))
+    assert phenomena._loop_area(v, wobble) == 0.0
+
+
+def test_stick_slip_settings_are_the_runs_own(lugre):
+    result = phenomena.stick_slip(lugre)
+    for run in ("reference", "low", "high"):
+        m = result.metrics[run]
+        assert result.settings[f"{run}_duration"] == m["duration"]
+        assert result.settings[f"{run}_time_step"] == pytest.approx(m["time_step"], rel=1e-9)
+        assert result.settings[f"{run}_stiffness"] == m["spring_stiffness"]
+        assert result.settings[f"{run}_drive_velocity"] == m["drive_velocity"]
+    assert result.metrics["reference"]["duration"] == 50.0
+    assert result.metrics["reference"]["time_step"] == pytest.approx(1e-3, rel=1e-9)
+    assert result.metrics["low"]["duration"] == 10.0
+
+
 def test_lag_check_fails_when_area_shrinks(pol_ind):
     """Far above the lag's corner frequency the loop closes again: the area falls with
     f and the check must say so."""
@@ -187,12 +216,13 @@ def test_maxwell_slip_family_shakes_down(label, demo):
 
 
 def test_lugre_drifts_steadily(lugre):
-    """Dupont et al. 2002: about 6.6 um every cycle with the 1995 parameters and m = 1 kg."""
+    """Dupont et al. 2002: about 6.6 µm every cycle with the 1995 parameters and m = 1 kg."""
     result = phenomena.non_drifting(lugre)
     assert not result.passed and not result.expected and result.as_expected
     m = result.metrics
     assert m["drifts"]
-    assert 6.55e-6 < m["steady_advance"] < 6.72e-6   # MODELS.md 7.7: about 6.6 um
+    assert 6.55e-6 < m["steady_advance"] < 6.72e-6   # MODELS.md 7.7: about 6.6 µm
+    assert "µm every cycle" in result.note
     advance = np.asarray(m["advance_per_cycle"])
     assert np.ptp(advance[1:]) < 0.01 * advance[-1]
 

@@ -8,6 +8,7 @@ import re
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
 from polind.phenomena import PHENOMENA
@@ -112,7 +113,7 @@ def test_summary_table(demo_run):
     rows = {line.split()[0]: line for line in lines[2:2 + len(PHENOMENA)]}
     assert list(rows) == list(PHENOMENA)
     assert " !" not in table.replace("; ! where", "")        # nothing contradicts MODELS.md
-    assert "6.6 um/cyc" in rows["non_drifting"]               # LuGre's drift
+    assert "6.6 µm/cyc" in rows["non_drifting"]               # LuGre's drift
 
 
 def test_progress_callback(demo_run):
@@ -204,3 +205,228 @@ def test_a_report_is_written_whole_or_not_at_all(demo_run, tmp_path):
     assert sorted(os.listdir(tmp_path)) == ["report.html"]       # no PNG left behind
     with pytest.raises(InputError, match="report.html"):
         run_demo(tmp_path)
+
+
+# --- what the report says matches what was run (issue 13) -----------------------------------
+
+def _figures(results, subject="Pol-Ind"):
+    """Every figure of the report as a matplotlib Figure, by file name (closed by the caller)."""
+    from polind import report
+
+    figures = {
+        "stribeck.png": report._figure_stribeck(results["stribeck"]),
+        "presliding_memory.png": report._figure_presliding_memory(results["presliding_memory"]),
+        "frictional_lag.png": report._figure_frictional_lag(results["frictional_lag"]),
+        "non_drifting.png": report._figure_non_drifting(results["non_drifting"]),
+        "stick_slip.png": report._figure_stick_slip(results["stick_slip"]),
+        "breakaway.png": report._figure_breakaway(results["breakaway"], subject),
+    }
+    figures["stick_slip_reference.png"] = report._figure_stick_slip_reference(
+        results["stick_slip"]["LuGre"], "LuGre")
+    assert sorted(figures) == sorted(FIGURES)
+    return figures
+
+
+@pytest.fixture(scope="module")
+def figures(demo_run):
+    import matplotlib.pyplot as plt
+
+    _, summary, _ = demo_run
+    made = _figures(summary["results"])
+    yield made
+    for figure in made.values():
+        plt.close(figure)
+
+
+def _curve_points(line, per_segment=8):
+    """A drawn curve in display coordinates: its samples, and points along its segments."""
+    xy = np.asarray(line.get_xydata(), dtype=float)
+    xy = xy[np.all(np.isfinite(xy), axis=1)]
+    if xy.shape[0] < 3:                 # markers of single points, reference lines
+        return np.zeros((0, 2))
+    display = line.get_transform().transform(xy)
+    if line.get_linestyle() in ("None", "", " ", "none"):
+        return display
+    s = np.linspace(0.0, 1.0, per_segment, endpoint=False)
+    along = display[:-1, None, :] + s[None, :, None] * np.diff(display, axis=0)[:, None, :]
+    return np.concatenate([along.reshape(-1, 2), display[-1:]])
+
+
+def test_no_text_box_or_legend_covers_a_curve(figures):
+    """Annotation boxes and legends sit where no curve is (they covered the curves of
+    non_drifting.png and presliding_memory.png)."""
+    covered = []
+    for name, figure in figures.items():
+        figure.canvas.draw()
+        renderer = figure.canvas.get_renderer()
+        for ax in figure.axes:
+            boxes = [t.get_bbox_patch().get_window_extent(renderer) for t in ax.texts
+                     if t.get_bbox_patch() is not None and t.get_visible()]
+            if ax.get_legend() is not None:
+                boxes.append(ax.get_legend().get_window_extent(renderer))
+            curves = [_curve_points(line) for line in ax.lines if line.get_visible()]
+            points = np.concatenate(curves) if curves else np.zeros((0, 2))
+            for box in boxes:
+                inside = ((points[:, 0] > box.x0) & (points[:, 0] < box.x1)
+                          & (points[:, 1] > box.y0) & (points[:, 1] < box.y1))
+                if inside.any():
+                    covered.append((name, ax.get_title(), int(inside.sum())))
+    assert not covered
+
+
+def _figure_texts(figure):
+    texts = [text.get_text() for text in figure.findobj(lambda a: hasattr(a, "get_text"))]
+    return "\n".join(texts)
+
+
+def test_micrometres_are_written_um_nowhere(demo_run, figures):
+    out, summary, _ = demo_run
+    page = (out / "report.html").read_text(encoding="utf-8")
+    metrics = (out / "metrics.json").read_text(encoding="utf-8")
+    for name, text in [("report.html", page), ("metrics.json", metrics),
+                       ("summary table", summary["table"])] + [
+            (name, _figure_texts(figure)) for name, figure in figures.items()]:
+        assert not re.search(r"\bum\b", text), name
+    assert "6.64 µm every cycle" in page                  # LuGre's drift, in its reading
+    assert "[µm]" in _figure_texts(figures["non_drifting.png"])
+
+
+def test_stick_slip_settings_are_those_of_the_runs(demo_run):
+    """The settings printed under the stick-slip figure are each run's own (they showed the
+    last run's duration and time step for every run)."""
+    import html
+
+    out, summary, _ = demo_run
+    page = html.unescape((out / "report.html").read_text(encoding="utf-8"))
+    section = page[page.index('id="stick_slip"'):page.index('id="breakaway"')]
+    for label, result in summary["results"]["stick_slip"].items():
+        settings = result.settings
+        for run in ("reference", "low", "high"):
+            measured = result.metrics[run]
+            assert settings[f"{run}_duration"] == pytest.approx(measured["duration"], rel=1e-12)
+            assert settings[f"{run}_time_step"] == pytest.approx(measured["time_step"],
+                                                                 rel=1e-9)
+            assert settings[f"{run}_stiffness"] == measured["spring_stiffness"]
+            assert settings[f"{run}_drive_velocity"] == measured["drive_velocity"]
+        assert (settings["reference_duration"], settings["reference_time_step"]) == (50.0, 1e-3)
+        line = section[section.index(f"<b>{label}</b>"):]
+        line = line[:line.index("</li>")]
+        assert "reference_duration = 50;" in line and "reference_time_step = 0.001;" in line
+        assert "low_duration = 10;" in line and "low_time_step = 0.0001;" in line
+
+
+def test_only_the_1995_set_up_is_called_so(demo_run, figures):
+    from polind.report import SET_UP_1995
+
+    _, summary, _ = demo_run
+    axes = figures["stick_slip.png"].axes
+    runs = ("reference", "low", "high")
+    called = []
+    for row, (label, result) in enumerate(summary["results"]["stick_slip"].items()):
+        for col, run in enumerate(runs):
+            title = axes[row * len(runs) + col].get_title()
+            m = result.metrics[run]
+            assert title.startswith(label)
+            assert f"m = {m['mass']:g} kg, k_d = {m['spring_stiffness']:g} N/m" in title
+            is_1995 = (m["mass"], m["spring_stiffness"], m["drive_velocity"]) == SET_UP_1995
+            assert ("1995" in title) == is_1995, title
+            if is_1995:
+                called.append((label, run))
+    assert called == [("LuGre", "reference")]
+
+
+def test_a_loop_is_marked_closed_only_when_it_closes(demo_run, figures):
+    """The circles "a loop closes" appear exactly where the measured mismatch is below the
+    tolerance; LuGre's loops, which do not close, get the open-loop mark instead."""
+    from polind.phenomena import MEMORY_TOLERANCE
+
+    _, summary, _ = demo_run
+    results = summary["results"]["presliding_memory"]
+    for ax, (label, result) in zip(figures["presliding_memory.png"].axes, results.items()):
+        closes = result.metrics["loops_close"]
+        assert closes == [gap < MEMORY_TOLERANCE
+                          for gap in result.metrics["closure_mismatches"]]
+        circles = [line for line in ax.lines if line.get_marker() == "o"]
+        squares = [line for line in ax.lines if line.get_marker() == "s"]
+        assert len(circles) == sum(closes), label
+        assert len(squares) == len(closes) - sum(closes), label
+        assert ax.get_title().splitlines()[1].startswith(f"{sum(closes)} of {len(closes)}")
+    assert not any(results["LuGre"].metrics["loops_close"])
+    assert all(results["Pol-Ind"].metrics["loops_close"])
+
+
+def test_lag_loops_carry_arrows_the_way_they_are_travelled(demo_run, figures):
+    """Two arrows per loop with an area, each from a sample of the loop to a later one, so
+    that they point the way the loop circulates; none on a flat "loop"."""
+    from matplotlib.text import Annotation
+
+    _, summary, _ = demo_run
+    results = summary["results"]["frictional_lag"]
+    for ax, (label, result) in zip(figures["frictional_lag.png"].axes, results.items()):
+        arrows = [child for child in ax.get_children() if isinstance(child, Annotation)]
+        with_area = [loop for loop, area in zip(result.data["loops"],
+                                                result.metrics["loop_area"]) if area != 0.0]
+        assert len(arrows) == 2 * len(with_area), label
+        for arrow in arrows:
+            start, end = np.asarray(arrow.xyann), np.asarray(arrow.xy)
+            found = False
+            for v, force in with_area:
+                points = np.column_stack((v * 1e3, force))
+                first = np.flatnonzero(np.all(points == start, axis=1))
+                last = np.flatnonzero(np.all(points == end, axis=1))
+                found = found or (first.size and last.size and last.max() > first.min())
+            assert found, (label, start, end)
+    assert results["Maxwell-slip"].metrics["loop_area"] == [0.0] * 4
+
+
+def test_loop_areas_are_not_rounding_noise(demo_run):
+    """Maxwell-slip has no lag loop: its area is 0, not -2e-16, and so is what the report
+    prints."""
+    out, summary, _ = demo_run
+    flat = summary["results"]["frictional_lag"]["Maxwell-slip"]
+    assert flat.metrics["loop_area"] == [0.0] * 4
+    assert flat.metrics["relative_area"] == [0.0] * 4
+    row = next(line for line in summary["table"].splitlines()
+               if line.startswith("frictional_lag"))
+    assert "area 0" in row and "e-1" not in row.split("area 0")[-1]
+    page = (out / "report.html").read_text(encoding="utf-8")
+    assert not re.search(r"area -\d", page)
+    for result in summary["results"]["frictional_lag"].values():
+        assert min(result.metrics["loop_area"]) >= 0.0
+
+
+def test_the_subjects_breakaway_markers_are_not_hidden(figures):
+    """Pol-Ind and GMS break away at nearly the same forces: Pol-Ind's markers are drawn
+    on top, large and open, with a marker of their own."""
+    left = figures["breakaway.png"].axes[0]
+    lines = {line.get_label().split(" (")[0]: line for line in left.lines
+             if not line.get_label().startswith("_")}
+    subject = lines.pop("Pol-Ind")
+    assert subject.get_markerfacecolor() == "none"
+    assert all(subject.get_zorder() > line.get_zorder() for line in lines.values())
+    assert all(subject.get_markersize() > line.get_markersize() for line in lines.values())
+    markers = [line.get_marker() for line in lines.values()]
+    assert len(set(markers)) == len(markers) and subject.get_marker() not in markers
+
+
+def test_parameter_blocks_are_model_files(demo_run, tmp_path):
+    """Every parameter block of report.html is a model file: tomllib reads it and
+    polind.load_model builds the very model the demo ran."""
+    import html
+    import tomllib
+
+    import polind
+    from polind.demo import demo_models
+
+    out, _, _ = demo_run
+    page = (out / "report.html").read_text(encoding="utf-8")
+    blocks = [html.unescape(text) for text in
+              re.findall(r'<pre class="model-file">(.*?)</pre>', page, flags=re.S)]
+    models = demo_models()
+    assert len(blocks) == len(models) == len(LABELS)
+    for (label, model), block in zip(models.items(), blocks):
+        document = tomllib.loads(block)
+        assert list(document) == ["model"] and document["model"]["type"] == model.type
+        path = tmp_path / f"{label}.toml"
+        path.write_text(block, encoding="utf-8")
+        assert polind.load_model(path) == model, label

@@ -1,4 +1,6 @@
-"""Fit several friction models to one record and rank them (INTERFACE.md ``polind compare``).
+"""Fit several friction models to one record and rank them (``polind compare``).
+
+The user guide, :ref:`guide-compare`.
 
 An engineer trusts a friction model once it predicts data it was not fitted
 to.  :func:`compare` fits every model with :func:`polind.identify` on the
@@ -76,6 +78,12 @@ class Comparison:
     t: np.ndarray = field(repr=False)
     x: np.ndarray = field(repr=False)
     force: np.ndarray = field(repr=False)
+
+    def __repr__(self):
+        rows = ", ".join(f"{row['model']} rms {row['rms_in_sample']:.4g} N" for row in self.rows)
+        held_out = "" if self.holdout is None else f", holdout {self.holdout:g}"
+        return (f"Comparison({len(self.rows)} models on {self.fitted_samples} samples"
+                f"{held_out}: {rows})")
 
     def table(self) -> str:
         """The rows as aligned text for a terminal (a missing value is ``-``)."""

@@ -3,7 +3,7 @@
 :func:`run_demo` runs every experiment of :mod:`polind.phenomena` on four
 models and writes the report of :mod:`polind.report`:
 
-* **Pol-Ind**: the default parameter set of INTERFACE.md (a steel pair under
+* **Pol-Ind**: the default parameter set (:ref:`formats-model-files`; a steel pair under
   100 N: ``mu_s N = 15 N``, ``mu_k N = 10 N``, vs = 1 mm/s, C = 1e4 N/s,
   64 statistical elements), or a model given by the caller.
 * **LuGre** with the parameters of Canudas de Wit et al. (1995):
@@ -17,11 +17,13 @@ models and writes the report of :mod:`polind.report`:
   attraction (Fs = mu_s N, Fc = mu_k N, vs, C, sigma2).  Same levels, a
   different (phenomenological) element set: the comparison shows what the
   surface-derived table changes.  (A GMS with Pol-Ind's own table *is*
-  Pol-Ind at a constant load, MODELS.md 7.6.)
+  Pol-Ind at a constant load, :ref:`guide-pol-ind-law`.)
 * **Maxwell-slip** with the same elements: ``k_j`` from the table and
   ``W_j = mu_s N alpha_j`` (the table's break-away forces, summing to
   ``mu_s N``), no viscous term: the rate-independent limit (C -> inf,
   Fs = Fc) of the same contact.
+
+See the user guide: :ref:`guide-demo`.
 """
 
 from __future__ import annotations
@@ -31,11 +33,13 @@ import os
 import time
 
 from polind import phenomena
+from polind.errors import InputError
 from polind.phenomena import PHENOMENA
 
 __all__ = ["LUGRE_1995", "EXPERIMENTS", "demo_models", "run_demo", "DemoSummary"]
 
-#: The LuGre parameters of Canudas de Wit, Olsson, Astrom and Lischinsky (1995), MODELS.md 3.
+#: The LuGre parameters of Canudas de Wit, Olsson, Astrom and Lischinsky (1995)
+#: (:ref:`guide-lugre`).
 LUGRE_1995 = {
     "type": "lugre",
     "bristle_stiffness": 1e5,
@@ -58,16 +62,18 @@ EXPERIMENTS = {
 }
 
 _DESCRIPTIONS = {
-    "Pol-Ind": "The default Pol-Ind parameter set of INTERFACE.md: GMS elements built from "
-               "Greenwood-Williamson asperity statistics and Hertz/elastic-slip asperity "
-               "mechanics (MODELS.md 7).",
-    "LuGre": "The LuGre model with the parameters of Canudas de Wit et al. (1995), MODELS.md 3.",
-    "GMS": "GMS (MODELS.md 5) with eight equal-weight elements whose slip distances are "
-           "log-spaced from 1/30 of Pol-Ind's largest slip distance to it, and Pol-Ind's Stribeck curve and "
-           "attraction: the same levels with a phenomenological element set.",
-    "Maxwell-slip": "Maxwell-slip (MODELS.md 4) with Pol-Ind's element stiffnesses and "
-                    "W_j = mu_s N alpha_j (summing to mu_s N): the rate-independent limit of "
-                    "the same contact.",
+    "Pol-Ind": "The default Pol-Ind parameter set (the formats page, 'Model files'): GMS "
+               "elements built from Greenwood-Williamson asperity statistics and "
+               "Hertz/elastic-slip asperity mechanics (the user guide, 'The Pol-Ind model').",
+    "LuGre": "The LuGre model (the user guide, 'LuGre') with the parameters of Canudas de "
+             "Wit et al. (1995).",
+    "GMS": "GMS (the user guide, 'Generalized Maxwell-slip (GMS)') with eight equal-weight "
+           "elements whose slip distances are log-spaced from 1/30 of Pol-Ind's largest slip "
+           "distance to it, and Pol-Ind's Stribeck curve and attraction: the same levels with "
+           "a phenomenological element set.",
+    "Maxwell-slip": "Maxwell-slip (the user guide, 'Maxwell-slip') with Pol-Ind's element "
+                    "stiffnesses and W_j = mu_s N alpha_j (summing to mu_s N): the "
+                    "rate-independent limit of the same contact.",
 }
 
 
@@ -77,7 +83,8 @@ def demo_models(pol_ind=None) -> dict:
     Parameters
     ----------
     pol_ind : polind.FrictionModel, optional
-        A Pol-Ind model; default the INTERFACE.md default parameter set.
+        A Pol-Ind model; default the default parameter set
+        (:func:`polind.models.pol_ind.default_table`).
         GMS and Maxwell-slip are built from its element table and levels.
     """
     import polind
@@ -160,7 +167,8 @@ def run_demo(out_dir="polind-report", progress=None, *, model=None) -> DemoSumma
         A progress bar (``update(1)`` per experiment, its ``total`` set if
         missing) or a function ``progress(done, total, description)``.
     model : polind.FrictionModel, optional
-        The Pol-Ind model to run (default: the INTERFACE.md defaults).
+        The Pol-Ind model to run (default: the default parameter set,
+        :ref:`formats-model-files`).
 
     Returns
     -------
@@ -183,7 +191,10 @@ def run_demo(out_dir="polind-report", progress=None, *, model=None) -> DemoSumma
     results = {phenomenon: {} for phenomenon in PHENOMENA}
     for phenomenon in PHENOMENA:
         for label, friction_model in models.items():
-            results[phenomenon][label] = EXPERIMENTS[phenomenon](friction_model)
+            try:        # a run the model's scales make too big is refused naming its experiment
+                results[phenomenon][label] = EXPERIMENTS[phenomenon](friction_model)
+            except InputError as error:
+                raise InputError(f"The {phenomenon} experiment on {label}: {error}") from None
             advance(f"{phenomenon}: {label}")
     info = {label: {"description": _DESCRIPTIONS[label], "parameters": m.to_dict()["model"]}
             for label, m in models.items()}

@@ -1,13 +1,13 @@
-"""The six friction phenomena of MODELS.md 7.7: the experiments, their metrics and their checks.
+"""The six friction phenomena (:ref:`guide-phenomena`): the experiments, their metrics and their checks.
 
 Each experiment runs one friction model through a prescribed motion
-(:func:`polind.simulate`) or a one-degree-of-freedom system of MODELS.md 8
+(:func:`polind.simulate`) or a one-degree-of-freedom system (:ref:`guide-systems`)
 (:func:`polind.dynamics.simulate_system`) and returns a
 :class:`PhenomenonResult`: the arrays its figure shows (``data``), the
 numbers that measure the phenomenon (``metrics``), the inputs used
 (``settings``) and ``passed`` -- whether the phenomenon *appears* in this
-run, decided by a check that can fail.  ``expected`` says whether MODELS.md
-credits the model with the phenomenon; a model behaves as documented when
+run, decided by a check that can fail.  ``expected`` says whether the user
+guide credits the model with the phenomenon (:ref:`guide-choosing-table`); a model behaves as documented when
 the two agree (:attr:`PhenomenonResult.as_expected`).  So LuGre's
 non-drifting result has ``passed = False`` (it drifts: Dupont et al. 2002)
 and ``expected = False``; Maxwell-slip, being rate independent, shows no
@@ -65,7 +65,7 @@ __all__ = [
     "breakaway",
 ]
 
-#: The keys of ``metrics.json`` (INTERFACE.md), in the order of MODELS.md 7.7.
+#: The keys of ``metrics.json`` (:ref:`formats-results`), in the order of :ref:`guide-phenomena`.
 PHENOMENA = ("stribeck", "presliding_memory", "frictional_lag", "non_drifting", "stick_slip",
              "breakaway")
 
@@ -188,11 +188,12 @@ def friction_levels(model) -> FrictionLevels:
 
 
 def _expected(phenomenon: str, levels: FrictionLevels) -> bool:
-    """Whether MODELS.md credits a model (with these levels) with the phenomenon.
+    """Whether the user guide credits a model (with these levels) with the phenomenon.
 
     Stribeck effect and stick-slip need velocity weakening (``Fs > Fc``);
     frictional lag needs a lag and a sloped curve for it to show on.  Every
-    model breaks away near its static level when the force rises slowly.
+    model breaks away near its static level when the force rises slowly
+    (:ref:`guide-demo`, :ref:`guide-choosing-table`).
     """
     if phenomenon in ("stribeck", "stick_slip"):
         return levels.has_stribeck_dip
@@ -217,7 +218,8 @@ class PhenomenonResult:
     passed : bool
         The phenomenon appears in this run (the experiment's check).
     expected : bool
-        MODELS.md credits this model with the phenomenon.
+        The user guide credits this model with the phenomenon
+        (:ref:`guide-choosing-table`).
     metrics : dict
         The numbers that measure it (floats, lists of floats, booleans); JSON-able.
     settings : dict
@@ -239,7 +241,7 @@ class PhenomenonResult:
 
     @property
     def as_expected(self) -> bool:
-        """The model behaves as MODELS.md says: the phenomenon appears iff it is expected."""
+        """The model behaves as the user guide says: the phenomenon appears iff it is expected."""
         return self.passed == self.expected
 
     def to_dict(self) -> dict:
@@ -277,7 +279,7 @@ def _steady_force(model, levels, velocity, settle=50.0, samples=240):
 
 
 def stribeck_effect(model, *, decades=3.0, points=49) -> PhenomenonResult:
-    """Steady sliding force over ``v`` from ``1e-3 vs`` to ``1e3 vs`` (MODELS.md 7.7, 1).
+    """Steady sliding force over ``v`` from ``1e-3 vs`` to ``1e3 vs`` (:ref:`guide-phenomenon-stribeck`).
 
     The model slides at each constant velocity (log-spaced) until the force
     is steady; the result is compared with the analytic steady curve
@@ -349,7 +351,8 @@ def stribeck_effect(model, *, decades=3.0, points=49) -> PhenomenonResult:
 # --- 2. presliding hysteresis with non-local memory ------------------------------------------
 
 #: The displacement path of the presliding experiment, in units of its amplitude: a virgin
-#: loading to +1, the major reversal to -1, then loops nested inside it (MODELS.md 7.7, 2).
+#: loading to +1, the major reversal to -1, then loops nested inside it
+#: (:ref:`guide-phenomenon-presliding`).
 MEMORY_PATH = (0.0, 1.0, -1.0, 0.6, -0.2, 0.3, -0.2, -0.5, 0.6, 1.0)
 #: (closing vertex, reversal it returns to, the loop's other reversal), indices into MEMORY_PATH.
 MEMORY_CLOSURES = ((6, 4, 5), (8, 3, 7), (9, 1, 2))
@@ -357,6 +360,9 @@ MEMORY_CLOSURES = ((6, 4, 5), (8, 3, 7), (9, 1, 2))
 #: whose last leg covers the same displacements): the branch after a wipe-out.
 MEMORY_BRANCHES = ((6, 7, (0.0, 1.0, -1.0, 0.6, -0.5)), (8, 9, (0.0, 1.0, -1.0, 1.0)))
 _GRID = 100                       # samples per unit amplitude: every vertex is a sample
+#: A loop *closes* (and a branch resumes) when the force misses by less than this fraction
+#: of the loop's (the major loop's) force span.
+MEMORY_TOLERANCE = 1e-6
 
 
 def _polyline(vertices, amplitude, speed):
@@ -403,10 +409,12 @@ def presliding_memory(model, *, amplitude=None, speed=None) -> PhenomenonResult:
     -------
     PhenomenonResult
         metrics: ``closure_mismatch`` (per closure and the largest, each
-        relative to its loop's force span), ``branch_mismatch`` (relative to
-        the major loop's span), ``major_loop_span`` [N].  ``passed``: both
-        below 1e-6 -- the non-local memory of the Maxwell-slip family.  LuGre
-        has a single state and no such memory: its loops do not close.
+        relative to its loop's force span), ``loops_close`` (per closure:
+        its mismatch below :data:`MEMORY_TOLERANCE`), ``branch_mismatch``
+        (relative to the major loop's span), ``major_loop_span`` [N].
+        ``passed``: both below 1e-6 -- the non-local memory of the
+        Maxwell-slip family.  LuGre has a single state and no such memory:
+        its loops do not close.
     """
     levels = friction_levels(model)
     if amplitude is None:
@@ -437,9 +445,11 @@ def presliding_memory(model, *, amplitude=None, speed=None) -> PhenomenonResult:
         reference_branches.append((x[index], expected))
     worst_closure = max(closures)
     worst_branch = max(branches)
-    passed = worst_closure < 1e-6 and worst_branch < 1e-6
+    closed = [mismatch < MEMORY_TOLERANCE for mismatch in closures]
+    passed = all(closed) and worst_branch < MEMORY_TOLERANCE
     metrics = {"closure_mismatch": worst_closure, "closure_mismatches": closures,
-               "branch_mismatch": worst_branch, "major_loop_span": major_span,
+               "loops_close": closed, "branch_mismatch": worst_branch,
+               "major_loop_span": major_span,
                "amplitude": amplitude}
     settings = {"amplitude": amplitude, "speed": speed,
                 "path": [v * amplitude for v in MEMORY_PATH]}
@@ -467,9 +477,25 @@ def _loop_area(velocity, force):
     """The signed area ``closed integral of F dv`` of one loop [N m/s] (trapezoid).
 
     Positive when the loop circulates in the lag direction: higher force
-    while the velocity rises than while it falls.
+    while the velocity rises than while it falls.  The force is taken
+    relative to its first sample, which keeps the large constant part of the
+    force out of the sum (a constant force gives exactly 0), and that part
+    is added back as ``F_0 (v_end - v_start)``, exactly 0 for a closed loop
+    and what the trapezoid gives for one whose ends differ (a sweep's loop
+    between two up-crossings).  An area that rounding alone can make --
+    forces known to 64 ulps around the loop's travel ``sum |dv|``, plus the
+    rounding of the sum -- is reported as 0, not as a noise of either sign.
     """
-    return float(np.sum(0.5 * (force[1:] + force[:-1]) * np.diff(velocity)))
+    force = np.asarray(force, dtype=np.float64)
+    velocity = np.asarray(velocity, dtype=np.float64)
+    dv = np.diff(velocity)
+    relative = force - float(force[0])
+    terms = 0.5 * (relative[1:] + relative[:-1]) * dv
+    area = float(np.sum(terms)) + float(force[0]) * float(velocity[-1] - velocity[0])
+    eps = float(np.finfo(np.float64).eps)
+    rounding = eps * (64.0 * float(np.max(np.abs(force))) * float(np.sum(np.abs(dv)))
+                      + terms.shape[0] * float(np.sum(np.abs(terms))))
+    return area if abs(area) > rounding else 0.0
 
 
 #: The most coarse steps the frictional-lag experiment spends on its warm-up slide.
@@ -478,7 +504,7 @@ _WARM_UP_STEPS = 200_000
 
 def frictional_lag(model, *, frequencies=None, mean_velocity=None, velocity_amplitude=None,
                    periods=2, steps_per_lag=50, plot_points=1500) -> PhenomenonResult:
-    """Sliding hysteresis: ``v(t) = v0 + va sin(2 pi f t)`` with ``v > 0`` (MODELS.md 7.7, 3).
+    """Sliding hysteresis: ``v(t) = v0 + va sin(2 pi f t)`` with ``v > 0`` (:ref:`guide-phenomenon-lag`).
 
     Parameters
     ----------
@@ -558,11 +584,13 @@ def frictional_lag(model, *, frequencies=None, mean_velocity=None, velocity_ampl
                 f"{relative[0]:.1e} to {relative[-1]:.1e} of the box as f rises from "
                 f"{frequencies[0]:g} to {frequencies[-1]:g} Hz")
     else:
-        note = f"no lag loop: largest relative area {max(relative, key=abs):.1e}"
+        largest = max(relative, key=abs)
+        note = ("no lag loop: the force is the same while the velocity rises and falls"
+                if largest == 0.0 else f"no lag loop: largest relative area {largest:.1e}")
     return _result("frictional_lag", levels, passed, metrics, settings, data, note)
 
 
-# --- the one-degree-of-freedom experiments (MODELS.md 8) ---------------------------------
+# --- the one-degree-of-freedom experiments (the user guide, 'One-degree-of-freedom systems')
 
 def _body_mass(levels: FrictionLevels) -> float:
     """1 kg per newton of Coulomb force: the LuGre reference body (m = 1 kg, Fc = 1 N) scaled,
@@ -598,7 +626,7 @@ def non_drifting(model, *, cycles=10, mass=None, time_step=None) -> PhenomenonRe
     The body starts at rest; its advance per cycle is the change of its
     cycle-mean position from one cycle to the next.  The Maxwell-slip family
     shakes down onto a periodic orbit (the advance dies away); LuGre advances
-    by the same amount every cycle (about 6.6 um with the 1995 parameters and
+    by the same amount every cycle (about 6.6 µm with the 1995 parameters and
     ``m = 1 kg``; Dupont et al. 2002).
 
     Parameters
@@ -651,7 +679,7 @@ def non_drifting(model, *, cycles=10, mass=None, time_step=None) -> PhenomenonRe
         note = (f"the body shakes down: its advance per cycle falls from {first:.3g} m to "
                 f"{last:.1e} m")
     elif drifts:
-        note = f"the body drifts by {last * 1e6:.3g} um every cycle, for ever"
+        note = f"the body drifts by {last * 1e6:.3g} µm every cycle, for ever"
     else:
         note = f"the advance per cycle does not die away (last {last:.3g} m)"
     return _result("non_drifting", levels, passed, metrics, settings, data, note)
@@ -698,8 +726,10 @@ def _stick_slip_run(model, levels, *, mass, stiffness, drive_velocity, duration,
                   and amplitude > 0.01 * levels.coulomb_force)
     steady = bool(stuck_fraction == 0.0 and amplitude < 0.05 * levels.coulomb_force)
     metrics = {"drive_velocity": drive_velocity, "spring_stiffness": stiffness, "mass": mass,
-               "from_rest": from_rest, "stick_episodes": int(starts.size), "period": period,
-               "stuck_fraction": stuck_fraction, "spring_force_amplitude": amplitude,
+               "from_rest": from_rest, "duration": float(res.t[-1] - res.t[0]),
+               "time_step": float(res.t[1] - res.t[0]), "stick_episodes": int(starts.size),
+               "period": period, "stuck_fraction": stuck_fraction,
+               "spring_force_amplitude": amplitude,
                "spring_force_range": [float(spring.min()), float(spring.max())],
                "sticks_and_slips": sticks, "slides_steadily": steady}
     data = {"t": _thin(res.t), "spring_force": _thin(res.applied), "friction": _thin(res.force),
@@ -708,7 +738,7 @@ def _stick_slip_run(model, levels, *, mass, stiffness, drive_velocity, duration,
 
 
 def stick_slip(model, *, low_velocity=None, high_velocity=None) -> PhenomenonResult:
-    """Spring-driven body (MODELS.md 8) at a low and a high drive velocity (7.7, 5).
+    """Spring-driven body at a low and a high drive velocity (:ref:`guide-phenomenon-stick-slip`).
 
     Three runs, all with the body mass ``m = Fc / (1 N) kg``:
 
@@ -739,9 +769,13 @@ def stick_slip(model, *, low_velocity=None, high_velocity=None) -> PhenomenonRes
     Returns
     -------
     PhenomenonResult
-        metrics: per run (``reference``, ``low``, ``high``) the drive
-        velocity, ``period`` [s], ``spring_force_amplitude`` [N],
-        ``stick_episodes``, ``sticks_and_slips``, ``slides_steadily``.
+        metrics: per run (``reference``, ``low``, ``high``) the
+        ``drive_velocity`` [m/s], ``spring_stiffness`` [N/m], ``mass`` [kg],
+        ``duration`` and ``time_step`` [s] of the run, ``period`` [s],
+        ``spring_force_amplitude`` [N], ``stick_episodes``,
+        ``sticks_and_slips``, ``slides_steadily``.  settings: ``mass`` and
+        per run its ``stiffness``, ``drive_velocity``, ``duration``,
+        ``time_step`` and ``from_rest`` (``reference_duration``, ...).
         ``passed``: the low run sticks and slips and the high run slides steadily.
     """
     levels = friction_levels(model)
@@ -762,8 +796,8 @@ def stick_slip(model, *, low_velocity=None, high_velocity=None) -> PhenomenonRes
     for name, run in runs.items():
         metrics[name], data[name] = _stick_slip_run(model, levels, mass=mass, **run)
     passed = metrics["low"]["sticks_and_slips"] and metrics["high"]["slides_steadily"]
-    settings = {"mass": mass, **{f"{name}_{key}": run[key] for name in runs
-                                 for key in ("duration", "time_step")}}
+    settings = {"mass": mass, **{f"{name}_{key}": value for name, run in runs.items()
+                                 for key, value in run.items()}}
     low, high = metrics["low"], metrics["high"]
     if passed:
         note = (f"at v_d = {low_velocity:g} m/s the body sticks and slips every "

@@ -2,8 +2,8 @@
 
 Input: the results of :mod:`polind.phenomena` for several models, as
 ``{phenomenon: {model label: PhenomenonResult}}`` (every phenomenon of
-MODELS.md 7.7 run on every model).  Output, in one directory (INTERFACE.md,
-``polind demo``):
+:ref:`guide-phenomena` run on every model).  Output, in one directory
+(``polind demo``, :ref:`guide-demo`; :ref:`formats-results`):
 
 * one PNG per figure (``stribeck.png``, ``presliding_memory.png``,
   ``frictional_lag.png``, ``non_drifting.png``, ``stick_slip.png``,
@@ -12,14 +12,14 @@ MODELS.md 7.7 run on every model).  Output, in one directory (INTERFACE.md,
   ``presliding_memory``, ``frictional_lag``, ``non_drifting``,
   ``stick_slip``, ``breakaway``, each with ``passed`` (the phenomenon appears
   in the subject model, Pol-Ind), ``as_expected`` (every model behaves as
-  MODELS.md says) and per model the numbers its figure shows;
+  the user guide says, :ref:`guide-choosing-table`) and per model the numbers its figure shows;
 * ``report.html``: a page that opens offline -- the figures embedded as
   base64 data URIs, no external CSS, script or link -- with, per
   phenomenon, what to see, the metrics and the parameter values used.
 
 Every file is written atomically (:func:`polind.io.atomic_write_bytes`).
 matplotlib is imported inside the plotting functions, with the Agg backend,
-so ``import polind`` stays fast (STYLE.md).
+so ``import polind`` stays fast (it does not load matplotlib).
 """
 
 from __future__ import annotations
@@ -32,8 +32,8 @@ import os
 
 import numpy as np
 
-from polind.io import atomic_write_bytes, atomic_write_text, check_output_path
-from polind.phenomena import PHENOMENA
+from polind.io import atomic_write_bytes, atomic_write_text, check_output_path, model_file_text
+from polind.phenomena import MEMORY_TOLERANCE, PHENOMENA
 
 __all__ = ["TITLES", "DESCRIPTIONS", "FIGURES", "write_report", "metrics_document",
            "summary_table", "render_html"]
@@ -56,29 +56,34 @@ DESCRIPTIONS = {
                 "Maxwell-slip is rate independent: its steady force is flat.",
     "presliding_memory": "The displacement goes to +A (virgin curve), back to -A, then through "
                          "loops nested inside that major loop, all within the presliding "
-                         "range. Open circles mark where a loop comes back to the reversal "
-                         "point it started from: with non-local memory (the Maxwell-slip "
-                         "family) the force there equals the force the path had at that "
-                         "point, the loop is wiped out and the path continues on the branch "
-                         "it would have followed without the loop (dashed). LuGre's loops do "
-                         "not close.",
+                         "range. Where a loop comes back to the reversal point it started "
+                         "from, an open circle marks a loop that closes there (its force "
+                         f"equals the force the path had at that point, within "
+                         f"{MEMORY_TOLERANCE:g} of the loop's span) and a square one that "
+                         "does not, the gap dotted. "
+                         "With non-local memory (the Maxwell-slip family) every loop closes, "
+                         "is wiped out, and the path continues on the branch it would have "
+                         "followed without the loop (dashed). LuGre's loops do not close.",
     "frictional_lag": "The velocity oscillates as v0 + va sin(2 pi f t), always positive; each "
                       "loop is the force over one period at one frequency, the dashed line "
                       "the steady curve. Look for loops that circulate clockwise in this "
-                      "plane (the force is higher while the velocity rises than while it "
-                      "falls), shrink onto the steady curve as f falls and open up as f rises. "
-                      "Maxwell-slip has no loop.",
+                      "plane, as the arrows show (the force is higher while the velocity "
+                      "rises than while it falls), shrink onto the steady curve as f falls "
+                      "and open up as f rises. Maxwell-slip has no loop.",
     "non_drifting": "A body pushed by 0.5 Fc + 0.4 Fc sin(2 pi t), always below break-away. "
                     "The curve is its position, the dots the mean position of each cycle. "
                     "The Maxwell-slip family shakes down: the cycle means stop moving. LuGre "
                     "creeps forward by the same step every cycle (Dupont et al. 2002).",
     "stick_slip": "A body pulled through a spring at a constant drive velocity; the curves are "
-                  "the spring force. Left: the set-up of Canudas de Wit et al. (1995) from "
-                  "rest. Middle and right: the body starts in steady sliding with a stiffer "
-                  "spring; at the low drive velocity (on the falling branch of the Stribeck "
-                  "curve) sliding is unstable and grows into a periodic stick-slip cycle, at "
-                  "the high one it stays steady. Maxwell-slip, with no velocity weakening, "
-                  "never stick-slips.",
+                  "the spring force. Left: from rest, the set-up of Canudas de Wit et al. "
+                  "(1995), m = 1 kg, k_d = 2 N/m, v_d = 0.1 m/s, scaled to each model's "
+                  "force level (m and k_d times Fc / 1 N, v_d = 100 vs): LuGre with the "
+                  "1995 parameters runs it as published, the other models a heavier body on a "
+                  "stiffer spring (each panel's title gives m and k_d). Middle and right: "
+                  "the body starts in steady sliding with a stiffer spring; at the low drive "
+                  "velocity (on the falling branch of the Stribeck curve) sliding is unstable "
+                  "and grows into a periodic stick-slip cycle, at the high one it stays "
+                  "steady. Maxwell-slip, with no velocity weakening, never stick-slips.",
     "breakaway": "The applied force rises at a constant rate from zero; the body has broken "
                  "away when its velocity reaches the threshold (vs). Left: the applied force at "
                  "break-away over Fs, per rate. Right: the velocity of the subject model's body "
@@ -97,6 +102,7 @@ FIGURES = {
 }
 
 _COLOURS = ("#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b")
+_MARKERS = ("o", "s", "^", "D", "v", "P")
 
 
 # --- matplotlib, lazily ------------------------------------------------------------------
@@ -136,19 +142,42 @@ def _annotate(ax, text, y=0.95, va="top"):
             bbox={"facecolor": "white", "edgecolor": "0.8", "alpha": 0.85})
 
 
-def _finish_panel(ax, label, result, xlabel, ylabel, legend="upper right", legend_size=8):
-    """Labels, a title saying whether the phenomenon appears, legend and grid."""
+def _finish_panel(ax, label, result, xlabel, ylabel, legend="upper right", legend_size=8,
+                  detail=None):
+    """Labels, a title saying whether the phenomenon appears, legend and grid.
+
+    ``detail`` is a second title line (the panel's numbers: above the axes,
+    where it covers no curve); ``legend=None`` leaves the legend to the
+    figure (:func:`_finish_figure`).
+    """
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
-    ax.set_title(f"{label}: {'appears' if result.passed else 'does not appear'}", fontsize=10)
-    ax.legend(fontsize=legend_size, loc=legend)
+    title = f"{label}: {'appears' if result.passed else 'does not appear'}"
+    ax.set_title(title if detail is None else f"{title}\n{detail}", fontsize=10)
+    if legend is not None:
+        ax.legend(fontsize=legend_size, loc=legend)
     ax.grid(True, which="both", alpha=0.3)
 
 
-def _finish_figure(fig, title):
+def _finish_figure(fig, title, legend=None):
+    """The title, and ``legend`` (matplotlib handles with labels) as one row below the panels."""
     fig.suptitle(title)
-    fig.tight_layout()
+    if legend:
+        fig.legend(handles=legend, loc="lower center", ncol=len(legend), fontsize=8,
+                   frameon=False)
+        # The legend's height in figure units, kept free below the panels.
+        bottom = 0.35 / fig.get_size_inches()[1]
+        fig.tight_layout(rect=(0.0, bottom, 1.0, 1.0))
+    else:
+        fig.tight_layout()
     return fig
+
+
+def _key(label, **style):
+    """A legend entry for a figure's legend (a line or marker that is not in any axes)."""
+    from matplotlib.lines import Line2D
+
+    return Line2D([], [], label=label, **style)
 
 
 # --- one figure per phenomenon ---------------------------------------------------------------
@@ -169,27 +198,48 @@ def _figure_stribeck(results):
     return _finish_figure(fig, TITLES["stribeck"])
 
 
+def _fraction(value) -> str:
+    """A fraction for a title: ``0``, a percentage from 0.1 %, else ``1.2e-05``."""
+    if value == 0.0:
+        return "0"
+    return f"{100.0 * value:.2g}%" if value >= 1e-3 else f"{value:.1e}"
+
+
+_CLOSES = {"marker": "o", "mfc": "none", "mec": "k", "ms": 10, "ls": "none"}
+_STAYS_OPEN = {"marker": "s", "mfc": "none", "mec": "k", "ms": 8, "mew": 1.5, "ls": "none"}
+
+
 def _figure_presliding_memory(results):
     fig, axes = _grid(len(results), height=4.0)
     for ax, (label, result), colour in zip(axes, results.items(), _COLOURS):
         d = result.data
         scale, unit = _length_unit(float(np.max(np.abs(d["x"]))))
-        x = d["x"] / scale
-        ax.plot(x, d["force"], "-", color=colour, lw=1.2, label="force along the path")
+        x, force = d["x"] / scale, d["force"]
+        ax.plot(x, force, "-", color=colour, lw=1.2)
         corners = d["corners"]
-        ax.plot(x[corners], d["force"][corners], "k.", ms=6, label="reversal points")
-        for number, (close, _, _) in enumerate(d["closures"]):
-            k = corners[close]
-            ax.plot(x[k], d["force"][k], "o", mfc="none", mec="k", ms=10,
-                    label="a loop closes" if number == 0 else None)
-        for number, (x_ref, f_ref) in enumerate(d["reference_branches"]):
-            ax.plot(x_ref / scale, f_ref, "--", color="0.4", lw=1,
-                    label="branch without the inner loops" if number == 0 else None)
-        _annotate(ax, f"closure mismatch {result.metrics['closure_mismatch']:.1e}\n"
-                  f"(of the loop's force span)")
+        ax.plot(x[corners], force[corners], "k.", ms=6)
+        closes = result.metrics["loops_close"]
+        for (close, reversal, _), closed in zip(d["closures"], closes):
+            k, start = corners[close], corners[reversal]
+            if closed:
+                ax.plot(x[k], force[k], **_CLOSES)
+            else:
+                # Where the path came back to the loop's starting displacement, and the
+                # gap to the force it had there.
+                ax.plot([x[k], x[start]], [force[k], force[start]], ":", color="k", lw=1.2)
+                ax.plot(x[k], force[k], **_STAYS_OPEN)
+        for x_ref, f_ref in d["reference_branches"]:
+            ax.plot(x_ref / scale, f_ref, "--", color="0.4", lw=1)
+        detail = (f"{sum(closes)} of {len(closes)} inner loops close; largest gap "
+                  f"{_fraction(result.metrics['closure_mismatch'])} of a loop's span")
         _finish_panel(ax, label, result, f"displacement x [{unit}]", "friction force F [N]",
-                      legend="lower right", legend_size=7)
-    return _finish_figure(fig, TITLES["presliding_memory"])
+                      legend=None, detail=detail)
+    legend = [_key("force along the path", color="0.3", lw=1.2),
+              _key("reversal points", color="k", marker=".", ms=6, ls="none"),
+              _key("a loop closes on its reversal point", **_CLOSES),
+              _key("a loop returns, but does not close (gap dotted)", **_STAYS_OPEN),
+              _key("branch without the inner loops", color="0.4", ls="--", lw=1)]
+    return _finish_figure(fig, TITLES["presliding_memory"], legend=legend)
 
 
 def _figure_frictional_lag(results):
@@ -199,47 +249,92 @@ def _figure_frictional_lag(results):
         d = result.data
         frequencies = result.metrics["frequency"]
         colours = plt.cm.viridis(np.linspace(0.0, 0.85, len(frequencies)))
-        for (v, force), frequency, colour in zip(d["loops"], frequencies, colours):
+        areas = result.metrics["loop_area"]
+        for number, ((v, force), frequency, colour, area) in enumerate(
+                zip(d["loops"], frequencies, colours, areas)):
             ax.plot(v * 1e3, force, "-", color=colour, lw=1.2, label=f"f = {frequency:g} Hz")
+            if area != 0.0:
+                # spread over -45 to +45 degrees of phase around the v0 crossings
+                _direction_arrows(ax, v * 1e3, force, colour,
+                                  0.25 * (number / max(len(frequencies) - 1, 1) - 0.5))
         ax.plot(d["curve_velocity"] * 1e3, d["curve_force"], "k--", lw=1, label="steady curve")
         _finish_panel(ax, label, result, "velocity v [mm/s]", "friction force F [N]",
                       legend_size=7)
     return _finish_figure(fig, TITLES["frictional_lag"] + ": v(t) = v0 + va sin(2 pi f t)")
 
 
+def _direction_arrows(ax, x, y, colour, phase):
+    """Two arrowheads on a loop (one per branch) pointing the way it is travelled.
+
+    The loop is one period sampled evenly from ``v = v0`` rising; the arrows
+    sit ``phase`` (a fraction of the period) after its start and half a
+    period later, so that the arrows of several loops are spread along
+    them instead of stacked.
+    """
+    n = x.shape[0] - 1
+    ahead = max(1, n // 40)
+    for fraction in (phase, phase + 0.5):
+        k = int(round(fraction * n)) % n
+        end = min(k + ahead, n)
+        ax.annotate("", xy=(x[end], y[end]), xytext=(x[k], y[k]),
+                    arrowprops={"arrowstyle": "-|>", "color": colour, "lw": 1.2,
+                                "mutation_scale": 13, "shrinkA": 0, "shrinkB": 0})
+
+
 def _figure_non_drifting(results):
-    fig, axes = _grid(len(results))
+    fig, axes = _grid(len(results), height=3.8)
     for ax, (label, result), colour in zip(axes, results.items(), _COLOURS):
         d = result.data
         scale, unit = _length_unit(max(np.max(np.abs(d["x"])), 1e-300))
-        ax.plot(d["t"], d["x"] / scale, "-", color=colour, lw=0.8, label="position x(t)")
+        ax.plot(d["t"], d["x"] / scale, "-", color=colour, lw=0.8)
         cycles = np.arange(d["cycle_mean_position"].shape[0]) + 0.5
-        ax.plot(cycles, d["cycle_mean_position"] / scale, "ko", ms=4, label="cycle mean")
+        ax.plot(cycles, d["cycle_mean_position"] / scale, "ko", ms=4)
         m = result.metrics
-        text = (f"drift {m['steady_advance'] * 1e6:.3g} um per cycle" if m["drifts"] else
-                f"advance: first cycle {m['first_advance']:.2e} m,\nlast cycle "
-                f"{m['last_advance']:.1e} m")
-        _annotate(ax, text)
-        _finish_panel(ax, label, result, "time t [s]", f"position x [{unit}]",
-                      legend="lower right")
-    return _finish_figure(fig, TITLES["non_drifting"] + ": F_a = 0.5 Fc + 0.4 Fc sin(2 pi t)")
+        detail = (f"drift {m['steady_advance'] * 1e6:.3g} µm per cycle" if m["drifts"] else
+                  f"advance per cycle: first {m['first_advance']:.2e} m, "
+                  f"last {m['last_advance']:.1e} m")
+        _finish_panel(ax, label, result, "time t [s]", f"position x [{unit}]", legend=None,
+                      detail=detail)
+    legend = [_key("position x(t)", color="0.3", lw=0.8),
+              _key("mean position of each 1 s cycle", color="k", marker="o", ms=4, ls="none")]
+    return _finish_figure(fig, TITLES["non_drifting"] + ": F_a = 0.5 Fc + 0.4 Fc sin(2 pi t)",
+                          legend=legend)
 
 
 def _length_unit(extent):
-    for scale, unit in ((1e-3, "mm"), (1e-6, "um"), (1e-9, "nm")):
+    for scale, unit in ((1e-3, "mm"), (1e-6, "µm"), (1e-9, "nm")):
         if extent >= scale:
             return scale, unit
     return 1e-12, "pm"
 
 
-_RUN_TITLES = {"reference": "from rest (1995 set-up)", "low": "started sliding, low v_d",
+_RUN_TITLES = {"reference": "from rest", "low": "started sliding, low v_d",
                "high": "started sliding, high v_d"}
+#: The spring-driven body of Canudas de Wit et al. (1995): mass [kg], k_d [N/m], v_d [m/s].
+SET_UP_1995 = (1.0, 2.0, 0.1)
+
+
+def _run_title(label, run, metrics) -> str:
+    """The three title lines of a stick-slip panel: the run, its body and spring, the verdict.
+
+    "1995 set-up" only where the run is that set-up (m = 1 kg, k_d = 2 N/m,
+    v_d = 0.1 m/s); the reference runs of other models are it scaled to
+    their force level.
+    """
+    body = (metrics["mass"], metrics["spring_stiffness"], metrics["drive_velocity"])
+    which = _RUN_TITLES[run] + (" (the 1995 set-up)" if body == SET_UP_1995 else "")
+    verdict = ("sticks and slips" if metrics["sticks_and_slips"] else
+               "slides steadily" if metrics["slides_steadily"] else "neither")
+    period = f", period {metrics['period']:.3g} s" if metrics["sticks_and_slips"] else ""
+    return (f"{label}, {which}\nm = {metrics['mass']:g} kg, k_d = "
+            f"{metrics['spring_stiffness']:g} N/m, v_d = {metrics['drive_velocity']:g} m/s\n"
+            f"{verdict}{period}")
 
 
 def _figure_stick_slip(results):
     plt = _pyplot()
     runs = ("reference", "low", "high")
-    fig, axes = plt.subplots(len(results), len(runs), figsize=(13.0, 2.6 * len(results)),
+    fig, axes = plt.subplots(len(results), len(runs), figsize=(13.0, 2.9 * len(results)),
                              squeeze=False)
     for row, ((label, result), colour) in enumerate(zip(results.items(), _COLOURS)):
         # One force scale per model, so a steady run looks as flat as it is.
@@ -249,16 +344,12 @@ def _figure_stick_slip(results):
             d = result.data[run]
             m = result.metrics[run]
             ax.plot(d["t"], d["spring_force"], "-", color=colour, lw=1)
-            verdict = ("sticks and slips" if m["sticks_and_slips"] else
-                       "slides steadily" if m["slides_steadily"] else "neither")
-            period = f", period {m['period']:.3g} s" if m["sticks_and_slips"] else ""
-            ax.set_title(f"{label}, {_RUN_TITLES[run]}: v_d = {m['drive_velocity']:g} m/s\n"
-                         f"{verdict}{period}", fontsize=8.5)
+            ax.set_title(_run_title(label, run, m), fontsize=8.5)
             ax.set_xlabel("time t [s]")
             ax.set_ylabel("spring force [N]")
             ax.set_ylim(0.0, 1.1 * top)
             ax.grid(True, alpha=0.3)
-    return _finish_figure(fig, TITLES["stick_slip"] + " (spring-driven body, MODELS.md 8)")
+    return _finish_figure(fig, TITLES["stick_slip"] + " (spring-driven body)")
 
 
 def _figure_stick_slip_reference(result, label):
@@ -275,6 +366,8 @@ def _figure_stick_slip_reference(result, label):
     bottom.axhline(m["drive_velocity"], color="0.4", ls="--", lw=1, label="drive velocity v_d")
     bottom.set_xlabel("time t [s]")
     bottom.set_ylabel("velocity v [m/s]")
+    # Head room above the velocity peaks for the legend, so that it covers none of them.
+    bottom.set_ylim(top=1.35 * max(float(np.max(d["v"])), m["drive_velocity"]))
     bottom.legend(fontsize=8, loc="upper right")
     bottom.grid(True, alpha=0.3)
     period = f"period {m['period']:.3g} s" if m["period"] else "no period"
@@ -286,10 +379,14 @@ def _figure_stick_slip_reference(result, label):
 def _figure_breakaway(results, subject):
     plt = _pyplot()
     fig, (left, right) = plt.subplots(1, 2, figsize=(12.0, 4.4))
-    for (label, result), colour in zip(results.items(), _COLOURS):
+    for (label, result), colour, marker in zip(results.items(), _COLOURS, _MARKERS):
         m = result.metrics
-        left.semilogx(m["rate"], m["breakaway_ratio"], "o-", color=colour,
-                      label=f"{label} (Fs = {m['static_force']:g} N)")
+        # The subject's markers are large and open, drawn on top: a model that breaks away
+        # where it does (GMS) shows inside them instead of hiding them.
+        style = ({"marker": "o", "ms": 11, "mfc": "none", "mew": 1.8, "zorder": 4}
+                 if label == subject else {"marker": marker, "ms": 5, "zorder": 3})
+        left.semilogx(m["rate"], m["breakaway_ratio"], "-", color=colour, lw=1,
+                      label=f"{label} (Fs = {m['static_force']:g} N)", **style)
     left.axhline(1.0, color="0.4", ls="--", lw=1)
     left.set_xlabel("force rate [N/s]")
     left.set_ylabel("break-away force / Fs [-]")
@@ -345,8 +442,8 @@ def metrics_document(results, subject) -> dict:
 
     ``passed`` is whether the phenomenon appears in the subject model (the
     default Pol-Ind model of ``polind demo``); ``as_expected`` whether every
-    model behaves as MODELS.md says (the phenomenon appears exactly in the
-    models credited with it).
+    model behaves as the user guide says (the phenomenon appears exactly in the
+    models credited with it; :ref:`guide-choosing-table`).
     """
     document = {}
     for phenomenon in PHENOMENA:
@@ -374,9 +471,10 @@ def _headline(result) -> str:
         gap = m["closure_mismatch"]
         return f"gap {gap:.0e}" if gap >= 1e-15 else "gap 0"
     if result.phenomenon == "frictional_lag":
-        return f"area {m['relative_area'][-1]:.0e}"
+        area = m["relative_area"][-1]
+        return f"area {area:.0e}" if area else "area 0"
     if result.phenomenon == "non_drifting":
-        return f"{m['last_advance'] * 1e6:+.2g} um/cyc"
+        return f"{m['last_advance'] * 1e6:+.2g} µm/cyc"
     if result.phenomenon == "stick_slip":
         period = m["low"]["period"]
         return f"T {period:.2g} s" if m["low"]["sticks_and_slips"] else "no cycle"
@@ -386,8 +484,9 @@ def _headline(result) -> str:
 def summary_table(results) -> str:
     """Model x phenomenon as text: ``yes``/``no`` (the phenomenon appears) and its metric.
 
-    A ``!`` marks a result that contradicts MODELS.md (a phenomenon that
-    appears where it should not, or is missing where it should be).
+    A ``!`` marks a result that contradicts the user guide (a phenomenon that
+    appears where it should not, or is missing where it should be;
+    :ref:`guide-choosing-table`).
     """
     labels = list(next(iter(results.values())))
     cells = {phenomenon: {label: ("yes " if result.passed else "no  ") + _headline(result)
@@ -402,7 +501,8 @@ def summary_table(results) -> str:
     for phenomenon in PHENOMENA:
         lines.append(phenomenon.ljust(first) + "  " + "  ".join(
             cells[phenomenon][label].ljust(width) for label, width in zip(labels, widths)))
-    lines.append("yes/no: the phenomenon appears; ! where that contradicts MODELS.md")
+    lines.append("yes/no: the phenomenon appears; ! where that contradicts the user guide "
+                 "('Which model shows which phenomenon')")
     return "\n".join(line.rstrip() for line in lines)
 
 
@@ -421,6 +521,7 @@ th { background: #f3f3f3; }
 .note { color: #444; font-size: 0.92em; }
 code, pre { font-family: monospace; font-size: 0.9em; }
 pre { background: #f6f6f6; padding: 0.6em; overflow-x: auto; }
+pre.model-file { max-height: 24em; overflow-y: auto; }
 """
 
 
@@ -532,7 +633,8 @@ def render_html(results, images, models, subject, *, title="polind demo") -> str
         ``{file name: PNG bytes}``, embedded as base64 data URIs.
     models : dict
         ``{label: {"description": str, "parameters": dict}}`` shown in the
-        parameter section.
+        parameter section, ``parameters`` the ``[model]`` table: each is
+        shown as the model file it makes (:func:`polind.io.model_file_text`).
     subject : str
         The label of the model whose result is each phenomenon's ``passed``.
     """
@@ -542,23 +644,29 @@ def render_html(results, images, models, subject, *, title="polind demo") -> str
         f"<title>{html.escape(title)}</title>",
         f"<style>{_STYLE}</style></head><body>",
         f"<h1>{html.escape(title)}: the friction phenomena of the Pol-Ind model</h1>",
-        "<p>The six phenomena of MODELS.md 7.7, each run on the default Pol-Ind model "
+        "<p>The six friction phenomena of the user guide ('Friction phenomena'), each run on "
+        "the default Pol-Ind model "
         "beside the classical models it is compared with. Every experiment is sized by the "
         "model's own scales (its static and Coulomb forces, Stribeck velocity, presliding "
         "range and lag time). <b>yes</b> means the phenomenon appears in that model's run; a "
-        "red cell marks a result that contradicts what MODELS.md says the model does "
+        "red cell marks a result that contradicts what the user guide ('Which model shows "
+        "which phenomenon') says the model does "
         "(LuGre is expected to drift and to lack non-local memory; Maxwell-slip, being "
         "rate independent, to show neither a Stribeck effect, frictional lag nor "
         "stick-slip).</p>",
         "<h2 id=\"summary\">Summary</h2>",
         _summary_html(results, subject),
         "<h2 id=\"models\">Models and parameters</h2>",
+        "<p class=\"note\">Each block is a complete model file: save it as a <code>.toml</code> "
+        "file and read it with <code>polind.load_model</code> or give it to the command "
+        "line (<code>polind simulate MODEL ...</code>).</p>",
     ]
     for label, info in models.items():
         parts.append(f"<h3>{html.escape(label)}</h3>")
         if info.get("description"):
             parts.append(f"<p class=\"note\">{html.escape(info['description'])}</p>")
-        parts.append("<pre>" + html.escape(_parameter_text(info.get("parameters", {})))
+        parts.append("<pre class=\"model-file\">"
+                     + html.escape(model_file_text({"model": info.get("parameters", {})}))
                      + "</pre>")
     for phenomenon in PHENOMENA:
         per_model = results[phenomenon]
@@ -575,25 +683,6 @@ def render_html(results, images, models, subject, *, title="polind demo") -> str
         parts.append(_settings_list(per_model))
     parts.append("</body></html>")
     return "\n".join(parts) + "\n"
-
-
-def _parameter_text(parameters) -> str:
-    """Model parameters as indented ``key = value`` lines; long lists shortened."""
-    lines = []
-
-    def walk(table, indent):
-        for key, value in table.items():
-            if isinstance(value, dict):
-                lines.append(f"{indent}[{key}]")
-                walk(value, indent + "  ")
-            elif isinstance(value, (list, tuple)) and len(value) > 6:
-                lines.append(f"{indent}{key} = [{len(value)} values: {value[0]:.4g} ... "
-                             f"{value[-1]:.4g}]")
-            else:
-                lines.append(f"{indent}{key} = {json.dumps(value)}")
-
-    walk(parameters, "")
-    return "\n".join(lines)
 
 
 # --- writing it all -------------------------------------------------------------------------

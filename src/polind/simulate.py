@@ -1,4 +1,4 @@
-"""Prescribed motion: :func:`simulate` (INTERFACE.md, Python).
+"""Prescribed motion: :func:`simulate` (the user guide, :ref:`guide-simulate`).
 
 One contract serves every model.  The motion is validated here, cut into
 steps at constant velocity (:class:`~polind.models.base.Path`), and handed
@@ -15,10 +15,15 @@ import numpy as np
 from polind.errors import InputError, describe
 from polind.models import FrictionModel, Path, State
 
-__all__ = ["SimulationResult", "simulate", "as_samples", "warn_ignored_load", "CHUNK"]
+__all__ = ["SimulationResult", "simulate", "as_samples", "warn_ignored_load", "summary_repr",
+           "CHUNK", "BYTES_PER_SAMPLE"]
 
 #: Samples between two progress reports of a long run.
 CHUNK = 1 << 18
+
+#: What :func:`simulate` allocates per sample beyond its inputs: t, the motion, the other
+#: of x and v, and the force (float64) [bytes].
+BYTES_PER_SAMPLE = 32
 
 # Samples per block of step arrays for a mounted model (series spring, load scaling): its
 # runs cut the motion into steps one block at a time (the kernel's state carries over), so
@@ -49,6 +54,77 @@ class SimulationResult:
     force: np.ndarray
     final_state: State
     normal_load: np.ndarray | None = None
+
+    def __repr__(self):
+        return summary_repr(self, {"x": "m", "v": "m/s", "force": "N", "normal_load": "N"})
+
+    def columns(self) -> dict:
+        """The samples as ``{"t", "x", "v", "F"}`` arrays: the columns of ``polind simulate``'s
+        output (:ref:`formats-results`)."""
+        return {"t": self.t, "x": self.x, "v": self.v, "F": self.force}
+
+    def to_frame(self):
+        """The samples as a pandas ``DataFrame`` with the columns ``t, x, v, F`` (SI units).
+
+        The columns of ``polind simulate``'s output; pandas is imported here.
+
+        Examples
+        --------
+        >>> import numpy as np, polind
+        >>> model = polind.model_from_dict({"model": {"type": "coulomb", "coulomb_force": 1.0}})
+        >>> res = polind.simulate(model, np.linspace(0.0, 1.0, 5), v=np.full(5, 1e-3))
+        >>> res.to_frame().columns.tolist()
+        ['t', 'x', 'v', 'F']
+        """
+        import pandas
+
+        return pandas.DataFrame(self.columns())
+
+    def to_csv(self, path, progress=None) -> None:
+        """Write the samples as ``polind simulate`` does: the header ``t,x,v,F``, full precision.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            CSV, or Parquet when the name ends in ``.parquet``; ``-`` is
+            standard output.  Written atomically (:func:`polind.io.write_csv_atomic`):
+            a directory is refused, an existing file is replaced only once the
+            whole table is on disk.
+        progress : callable, optional
+            ``progress(done, total)`` [rows].
+        """
+        from polind.io import write_csv_atomic
+
+        write_csv_atomic(path, self.columns(), progress=progress)
+
+
+def _span(values, unit) -> str:
+    """``lo .. hi unit`` of an array (its one value if constant), 4 significant digits."""
+    array = np.asarray(values, dtype=np.float64).reshape(-1)
+    if array.size == 0:
+        return "empty"
+    low, high = float(np.min(array)), float(np.max(array))
+    text = f"{low:.4g}" if low == high else f"{low:.4g} .. {high:.4g}"
+    return f"{text} {unit}".rstrip()
+
+
+def summary_repr(result, units: dict) -> str:
+    """A short repr of a result of samples: the sample count, the range of each array, the
+    final state in one phrase -- never the arrays themselves.
+
+    ``units`` maps the result's array attributes (after ``t``) to their units; an
+    attribute that is None is left out.
+    """
+    t = np.asarray(result.t).reshape(-1)
+    parts = [f"{t.size} samples", f"t {_span(t, 's')}"]
+    parts += [f"{name} {_span(value, unit)}" for name, unit in units.items()
+              if (value := getattr(result, name, None)) is not None]
+    state = getattr(result, "final_state", None)
+    if state is not None:
+        count = sum(np.size(value) for value in state.variables.values())
+        parts.append(f"final_state {state.model_type} at t = {state.time:.6g} s "
+                     f"({count} internal values)")
+    return f"{type(result).__name__}({', '.join(parts)})"
 
 
 def _converted(name, values, length=None, copy=True):
@@ -110,9 +186,13 @@ def warn_ignored_load(model) -> None:
 
 def _time(t):
     """The sample times: finite, at least 2, strictly increasing (one compiled pass)."""
+    return _check_time(_converted("t", t))
+
+
+def _check_time(t):
+    """``t`` if finite, at least 2 and strictly increasing; InputError naming the first bad one."""
     from polind.kernels.contract import NOT_FINITE, NOT_INCREASING, check_times
 
-    t = _converted("t", t)
     code, k = check_times(t)
     if code == NOT_FINITE:
         raise _not_finite("t", t, k)
@@ -126,7 +206,7 @@ def _time(t):
 
 
 def _check_continuation(state, t, x, v):
-    """A chunk continues a state only from the state's own last sample (INTERFACE.md)."""
+    """A chunk continues a state only from the state's own last sample (:ref:`guide-states`)."""
     def same(a, b):
         return a == b or abs(a - b) <= 1e-12 * max(abs(a), abs(b))
 
@@ -157,16 +237,36 @@ class _SteppedMotion:
     three arrays of a block, not of every sample; with ``block=None`` one block
     covers the whole motion (:func:`make_path`).  Constructing it cuts every
     block once, so that a bad motion is refused before anything runs.
+
+    With ``validate=False`` nothing is copied or checked yet: ``source_t``
+    and ``source_motion`` are the given arrays (converted only if they are
+    not C-contiguous float64 already), and a fused run
+    (:func:`polind.kernels.contract.run_motion`) copies them into ``t`` and
+    the motion as it checks and runs them, in one pass; :meth:`refuse` then
+    names the first error as a full check would.  :meth:`materialise` does
+    the copy and the time check at once instead (before cutting blocks).
     """
 
     def __init__(self, t, x=None, v=None, state=None, block=None, validate=True):
         if (x is None) == (v is None):
             raise InputError("Give exactly one of 'x' (displacement) and 'v' (velocity). Got "
                              + ("both." if x is not None else "neither."))
-        self.t = _time(t)
-        n = self.t.shape[0]
         self.name = "x" if x is not None else "v"
-        self.motion = _converted(self.name, x if x is not None else v, n)
+        given = x if x is not None else v
+        if validate:
+            self.t = _time(t)
+            n = self.t.shape[0]
+            self.motion = _converted(self.name, given, n)
+            self.source_t, self.source_motion = self.t, self.motion
+        else:
+            self.source_t = _converted("t", t, copy=False)
+            n = self.source_t.shape[0]
+            if n < 2:
+                _check_time(self.source_t)              # its own message
+            self.source_motion = _converted(self.name, given, n, copy=False)
+            # A source converted here is the run's own copy already.
+            self.t = self.source_t if self.source_t is not t else np.empty(n)
+            self.motion = self.source_motion if self.source_motion is not given else np.empty(n)
         self.by_velocity = x is None
         if self.by_velocity:
             self.x, self.sample_velocity = np.empty(n), self.motion
@@ -174,8 +274,21 @@ class _SteppedMotion:
             self.x, self.sample_velocity = self.motion, np.empty(n)
         self._start = (0.0 if state is None else state.position,
                        0.0 if state is None else state.velocity, state is not None)
-        if validate:         # else a fused run (run_motion) checks the motion as it goes
+        self._checked = validate
+        if validate:
             self.cut_in_blocks(block)
+
+    def materialise(self):
+        """Copy the sources of a ``validate=False`` motion now and check its times."""
+        if self._checked:
+            return
+        if self.t is not self.source_t:
+            np.copyto(self.t, self.source_t)
+        if self.motion is not self.source_motion:
+            np.copyto(self.motion, self.source_motion)
+        _check_time(self.t)
+        self.source_t, self.source_motion = self.t, self.motion
+        self._checked = True
 
     def cut_in_blocks(self, block=None):
         """Allocate the step arrays of one block and check the whole motion by cutting it."""
@@ -232,11 +345,16 @@ class _SteppedMotion:
         A non-finite sample later than an overflow is named first, as one
         pass that checks every sample before the steps would.
         """
-        from polind.kernels.contract import NOT_FINITE
+        from polind.kernels.contract import BAD_TIME, NOT_FINITE
 
-        bad = np.flatnonzero(~np.isfinite(self.motion))
+        motion = self.source_motion
+        if not self._checked:              # a fused run stopped: the times come first
+            _check_time(self.source_t)
+            if code == BAD_TIME:            # cannot happen: check_times agrees with run_motion
+                raise InputError(f"The 't' samples are not valid at index {index}.")
+        bad = np.flatnonzero(~np.isfinite(motion))
         if code == NOT_FINITE or bad.size:
-            raise _not_finite(self.name, self.motion, bad[0] if bad.size else index)
+            raise _not_finite(self.name, motion, bad[0] if bad.size else index)
         what = "step velocities" if self.name == "x" else "integrated displacements"
         raise InputError(f"The '{self.name}' samples overflow: their {what} are not finite "
                          f"from index {index} on. Use SI units (m, m/s, s) of a physical "
@@ -244,7 +362,7 @@ class _SteppedMotion:
 
 
 def make_path(t, x=None, v=None, state=None) -> Path:
-    """Cut a prescribed motion into steps at constant velocity (INTERFACE.md).
+    """Cut a prescribed motion into steps at constant velocity (:ref:`guide-simulate-path`).
 
     With ``x``: the path is linear between samples; the step ending at
     sample k has velocity ``(x[k] - x[k-1]) / (t[k] - t[k-1])``, which is
@@ -293,6 +411,13 @@ def simulate(model: FrictionModel, t, x=None, v=None, *, normal_load=None,
     -------
     SimulationResult
 
+    Raises
+    ------
+    InputError
+        A bad argument, naming it; a motion whose ``BYTES_PER_SAMPLE``
+        per sample would pass the memory limit (:mod:`polind.resources`),
+        before anything is allocated.
+
     Examples
     --------
     >>> import numpy as np, polind
@@ -313,8 +438,10 @@ def simulate(model: FrictionModel, t, x=None, v=None, *, normal_load=None,
         model.check_state(state)
     # Memory: t, x, v and the forces (32 bytes a sample), the load given, and (a
     # mounted model only) step arrays for one block of samples.
+    _check_memory(t)
     path = _SteppedMotion(t, x, v, state, validate=False)
     if state is not None:
+        path.materialise()
         given = path.motion
         _check_continuation(state, path.t, given if x is not None else None,
                             given if x is None else None)
@@ -339,6 +466,17 @@ def simulate(model: FrictionModel, t, x=None, v=None, *, normal_load=None,
                             final_state=run_state, normal_load=load)
 
 
+def _check_memory(t):
+    """Refuse a motion whose samples would pass the memory limit, before allocating them."""
+    from polind.resources import check_memory
+
+    try:
+        samples = len(t)
+    except TypeError:
+        return                          # not a sequence: the conversion names it
+    check_memory(samples * BYTES_PER_SAMPLE, f"A motion of {samples:.3g} samples")
+
+
 def _advance_in_chunks(model, path, state, load, progress):
     """Run the model's step over the motion, reporting progress every CHUNK samples; return the forces.
 
@@ -356,14 +494,16 @@ def _advance_in_chunks(model, path, state, load, progress):
     force = np.empty(n)
     fused = kernel.mount is None
     if not fused:
+        path.materialise()
         path.cut_in_blocks(_BLOCK)
     start_position, start_velocity, continuing = path._start
     lo = 0
     while True:
         hi = min(lo + CHUNK, n)
         if fused:
-            code, index = kernel.run_motion(path.t, path.motion, path.by_velocity,
-                                            start_position, start_velocity, continuing, path.x,
+            code, index = kernel.run_motion(path.source_t, path.source_motion, path.t,
+                                            path.motion, path.by_velocity, start_position,
+                                            start_velocity, continuing, path.x,
                                             path.sample_velocity, load, lo, hi, lo == 0, force)
             if code != VALID:
                 path.refuse(code, index)
