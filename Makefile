@@ -1,10 +1,10 @@
-# The two commands of the README: `make demo` and `make test`.
+# The commands of the README: `make demo`, `make test` and `make docs`.
 # Each creates .venv if needed and installs the project into it.
 PYTHON ?= python3
 VENV   := .venv
 BIN    := $(VENV)/bin
 
-.PHONY: demo test bench clean
+.PHONY: demo test bench docs clean
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -18,14 +18,24 @@ $(VENV)/.installed-test: pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install --quiet -e ".[test]"
 	touch $@ $(VENV)/.installed-run
 
+$(VENV)/.installed-docs: pyproject.toml | $(BIN)/python
+	$(BIN)/python -m pip install --quiet -e ".[docs]"
+	touch $@ $(VENV)/.installed-run
+
 demo: $(VENV)/.installed-run
 	$(BIN)/polind demo
 
 test: $(VENV)/.installed-test
 	$(BIN)/python -m pytest
 
+# The documentation site, into docs/_build/html (open docs/_build/html/index.html; it
+# needs no network).  The examples of examples/ run during the build (a minute or two).
+docs: $(VENV)/.installed-docs
+	$(BIN)/python -m sphinx -b html -j auto -n --keep-going docs docs/_build/html
+
 bench: $(VENV)/.installed-run
 	$(BIN)/polind bench
 
 clean:
-	rm -rf $(VENV) polind-report .pytest_cache
+	rm -rf $(VENV) polind-report .pytest_cache docs/_build docs/api/generated docs/api/polind*.rst \
+		docs/api/modules.rst docs/auto_examples docs/sg_execution_times.rst

@@ -1,4 +1,7 @@
-"""Model-based friction compensation in a 1 kHz PD position loop.
+"""Friction compensation in a PD position loop
+=============================================
+
+Model-based friction compensation in a 1 kHz PD position loop.
 
 Run::
 
@@ -72,7 +75,6 @@ from __future__ import annotations
 import argparse
 import math
 import os
-import sys
 import time
 
 import numpy as np
@@ -227,4 +229,4 @@ def main(argv=None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    main()

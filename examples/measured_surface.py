@@ -45,7 +45,8 @@ from polind import phenomena
 from polind.models.pol_ind import default_table
 from polind.topography import load_measured_surface
 
-HERE = Path(__file__).resolve().parent
+# sphinx-gallery runs the script without __file__, from the script's own directory.
+HERE = Path(globals().get("__file__", "measured_surface.py")).resolve().parent
 _MAPS = [HERE.parents[1] / "shared" / "data" / "topography" / "x3p-2.x3p",
          Path("/work/shared/data/topography/x3p-2.x3p")]
 DEFAULT_MAP = next((path for path in _MAPS if path.is_file()), _MAPS[0])
@@ -69,7 +70,8 @@ def contact_row(label, model) -> dict:
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[1])
+    paragraphs = (__doc__ or "").split("\n\n")      # sphinx-gallery empties __doc__
+    parser = argparse.ArgumentParser(description=paragraphs[1] if len(paragraphs) > 1 else None)
     parser.add_argument("out", nargs="?", default=".", help="output directory")
     parser.add_argument("--map", default=str(DEFAULT_MAP), help="height map file")
     parser.add_argument("--load", type=float, default=1.0, help="normal load [N]")

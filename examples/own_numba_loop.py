@@ -1,4 +1,7 @@
-"""A polind model inside your own compiled loop: a spring-mass oscillator with LuGre friction.
+"""A polind model inside your own compiled loop
+==============================================
+
+A spring-mass oscillator with LuGre friction, integrated by your own numba loop.
 
 ``model.step_kernel()`` hands out the model's numba step function and its
 arrays; a loop compiled with numba calls it once per sample and never

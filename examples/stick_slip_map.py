@@ -1,10 +1,14 @@
-"""Stick-slip maps: where a spring-driven body sticks and slips, over drive velocity and stiffness.
+"""Stick-slip maps
+===============
+
+Where a spring-driven body sticks and slips, over drive velocity and stiffness::
 
     python examples/stick_slip_map.py [OUT_DIR] [--count N] [--workers N | --scheduler ADDRESS]
 
-Two sweeps of `polind.sweep` over the drive velocity v_d and the drive
-spring's stiffness k_d of the body of MODELS.md 8 (``m a = k_d (v_d t - x) -
-F``, started from rest), each an N x N logarithmic grid (default 15 x 15):
+Two sweeps of ``polind.sweep`` over the drive velocity v_d and the drive
+spring's stiffness k_d of the spring-driven body (the user guide,
+"One-degree-of-freedom systems": ``m a = k_d (v_d t - x) - F``, started from
+rest), each an N x N logarithmic grid (default 15 x 15):
 
 * the default Pol-Ind model (``polind.models.pol_ind.default_table()``: a
   steel pair under 100 N, mu_s = 0.15, mu_k = 0.10, vs = 1 mm/s, no viscous
@@ -14,8 +18,8 @@ F``, started from rest), each an N x N logarithmic grid (default 15 x 15):
   body, v_d from 3 mm/s to 1 m/s, k_d from 1 to 1000 N/m, 100 s at 2 ms.
 
 Each run keeps ``stuck_fraction``, ``stick_slip_amplitude`` and
-``stick_slip_period`` (the README defines them, over the second half of the
-run).  The results go to ``OUT_DIR/stick_slip_pol_ind.parquet`` and
+``stick_slip_period`` (the user guide, "Sweeps", defines them, over the
+second half of the run).  The results go to ``OUT_DIR/stick_slip_pol_ind.parquet`` and
 ``OUT_DIR/stick_slip_lugre.parquet``; running the script again computes only
 runs that are missing there.  The figure ``OUT_DIR/stick_slip_map.png`` has
 one row per model and one map per metric; the white line is where the body
@@ -131,7 +135,7 @@ def plot(tables, path):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("out_dir", nargs="?", default=".", help="where the tables and the "
                                                                  "figure go (default: here)")
     parser.add_argument("--count", type=int, default=15, help="grid points per axis (15)")

@@ -1,4 +1,7 @@
-"""Fit LuGre, GMS, Maxwell-slip and Pol-Ind (with the rig's compliance) on the first half
+"""Four models fitted to a measured tribometer record
+====================================================
+
+Fit LuGre, GMS, Maxwell-slip and Pol-Ind (with the rig's compliance) on the first half
 of a measured reciprocating-tribometer record and judge them on the second half.
 
 Run::

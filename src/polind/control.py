@@ -1,4 +1,6 @@
-"""A friction model as a python-control system: :func:`friction_system` (INTERFACE.md).
+"""A friction model as a python-control system: :func:`friction_system`.
+
+The user guide, :ref:`guide-python-control`.
 
 ``polind.control.friction_system(model, dt)`` wraps any polind model (or a
 registered model of your own) as a discrete-time

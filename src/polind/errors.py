@@ -4,7 +4,7 @@ Every check on user input in polind (model parameters, motion files, system
 files, command-line options) raises :class:`InputError`, a ``ValueError``
 whose message is one line naming the parameter, file, row or key, the value
 received and what was expected.  The command line turns it into exit status
-2 (INTERFACE.md).
+2 (the documentation's "Command line", :ref:`cli-exit-status`).
 """
 
 from __future__ import annotations

@@ -264,7 +264,7 @@ class Stepper:
 
 
 class Body:
-    """A mass with friction, stepped by the user's controller (MODELS.md 8).
+    """A mass with friction, stepped by the user's controller (:ref:`guide-body`).
 
     ``step(applied_force)`` holds the applied force over one step of
     ``time_step`` and advances the body by the implicit step of

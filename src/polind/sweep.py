@@ -1,10 +1,11 @@
 """Many runs of one friction model over a grid or a sample of its parameters.
 
-INTERFACE.md "Sweeps"; the metrics measure the phenomena of MODELS.md 7.7 on
-the systems of MODELS.md 8.
+The user guide, :ref:`guide-sweeps`; the sweep file, :ref:`formats-sweep`.  The
+metrics measure the phenomena (:ref:`guide-phenomena`) on the one-degree-of-freedom
+systems (:ref:`guide-systems`).
 
-A sweep file names a model file, a one-degree-of-freedom system (MODELS.md
-8) or a prescribed motion, the metrics to keep (:data:`METRICS`) and the
+A sweep file names a model file, a one-degree-of-freedom system or a
+prescribed motion, the metrics to keep (:data:`METRICS`) and the
 parameters to vary: dotted keys into ``[model]`` and ``[system]``, each a
 list of values or a range (linear or logarithmic).  The design is a grid
 (every combination, in the order of the keys, the last varying fastest), a
@@ -147,7 +148,8 @@ class Metric:
     compute: Callable[[RunOutput], float] = field(compare=False)
 
 
-#: The metrics a sweep can keep, by name (the README defines each; so do their ``definition``).
+#: The metrics a sweep can keep, by name (their ``definition``; the documentation's file
+#: formats page lists them).
 METRICS: dict[str, Metric] = {}
 
 
@@ -298,7 +300,7 @@ def _loop_area_metric(run):
 
 # --- the system table -----------------------------------------------------------------------
 
-#: The keys of a [system] file (INTERFACE.md) and the System fields they set.
+#: The keys of a [system] file (:ref:`formats-system`) and the System fields they set.
 #: The dotted keys of a [system] file and the System fields they set.
 SYSTEM_KEYS = FILE_KEYS
 
@@ -720,7 +722,7 @@ _SWEEP_KEYS = ("model", "system", "motion", "metrics", "method", "samples", "see
 
 
 def load_sweep(path) -> Sweep:
-    """Read a sweep file (TOML, or JSON by extension; INTERFACE.md "Sweeps").
+    """Read a sweep file (TOML, or JSON by extension; :ref:`formats-sweep`).
 
     Relative file names in it point from the sweep file's directory.  Every
     problem raises :class:`polind.InputError` naming the file and the key.

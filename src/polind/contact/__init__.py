@@ -1,4 +1,4 @@
-"""Contact mechanics of the Pol-Ind model (MODELS.md 7.1–7.5).
+"""Contact mechanics of the Pol-Ind model (the user guide, :ref:`guide-pol-ind`).
 
 Greenwood–Williamson surfaces (statistical and direct summation), the
 single-asperity laws of Hertz, Cattaneo–Mindlin and Masing, the separation

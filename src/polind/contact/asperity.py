@@ -1,4 +1,6 @@
-"""Single-asperity contact laws: Hertz, elastic slip, Cattaneo–Mindlin, Masing (MODELS.md 7.2).
+"""Single-asperity contact laws: Hertz, elastic slip, Cattaneo–Mindlin, Masing.
+
+The user guide, :ref:`guide-pol-ind-asperity`.
 
 One spherical summit of radius ``R`` pressed against a rigid flat by the
 interference ``delta = h - d`` [m].  The normal law is Hertz's; the
@@ -80,7 +82,8 @@ def contact_radius(interference, R: float):
 def tangential_stiffness(interference, R: float, G_star: float):
     """Elastic tangential stiffness of one asperity, ``k_t = 8 G* a`` [N/m].
 
-    This is the stiffness of the elastic-slip element of MODELS.md 7.5 and
+    This is the stiffness of the elastic-slip element of the Pol-Ind elements
+    (:ref:`guide-pol-ind-elements`) and
     the initial slope of the Cattaneo–Mindlin curve.
 
     Parameters

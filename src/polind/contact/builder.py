@@ -1,10 +1,13 @@
-"""From the pol-ind model table to the loaded contact (MODELS.md 7.1–7.5; INTERFACE.md).
+"""From the pol-ind model table to the loaded contact.
 
 :func:`build_contact` reads the keys of the ``[model]`` table of a
 ``pol-ind`` model file that the contact mechanics needs (``normal_load``,
 ``static_coefficient``, ``surface``, ``materials``, ``discretisation``),
 builds the surface, solves the separation and builds the element table;
 :meth:`Contact.summary` is what ``polind surface --json`` prints.
+
+See the user guide, :ref:`guide-pol-ind` (the surface, the separation and the
+elements), and the keys in :ref:`formats-model-files`.
 """
 
 from __future__ import annotations
@@ -23,7 +26,7 @@ from polind.errors import InputError, describe
 
 __all__ = ["Contact", "build_contact", "build_surface", "default_contact_parameters", "measured_surface"]
 
-# The default Pol-Ind parameter set of INTERFACE.md (a steel pair under 100 N),
+# The default Pol-Ind parameter set (a steel pair under 100 N; the formats page, 'Model files'),
 # restricted to the keys the contact mechanics reads.
 _DEFAULTS = {
     "normal_load": 100.0,
@@ -47,7 +50,7 @@ _DEFAULTS = {
 
 
 def default_contact_parameters() -> dict:
-    """A fresh copy of the default contact keys of the pol-ind model table (INTERFACE.md)."""
+    """A fresh copy of the default contact keys of the pol-ind model table (:ref:`formats-model-files`)."""
     return copy.deepcopy(_DEFAULTS)
 
 
@@ -133,7 +136,7 @@ def build_contact(params: Mapping | None = None, base_dir=None, *, surface=None)
         ``discretisation`` = {``summation`` ("statistical" or "direct"),
         ``elements`` (bins, statistical), ``seed`` (direct, sampled),
         ``heights_file`` (direct, measured)}.  Missing keys take the default
-        values of INTERFACE.md; other keys of the model table are ignored
+        values (:ref:`formats-model-files`); other keys of the model table are ignored
         (they are not the contact's).  ``None`` gives the default contact.
     base_dir : str or os.PathLike, optional
         Directory a relative ``heights_file`` is read from (the model file's);

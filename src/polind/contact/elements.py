@@ -1,4 +1,4 @@
-"""The modified Maxwell-slip element table of a loaded surface (MODELS.md 7.5, approach II).
+"""The modified Maxwell-slip element table of a loaded surface (approach II).
 
 Every summit in contact (direct summation) or every height bin of the
 Gaussian tail (statistical summation) becomes one elastic-slip element ``j``
@@ -36,22 +36,24 @@ load is ``N(d)``, within the solver's 1e-10 of ``N_app``.  Summits with radii
 of their own (a measured map) get ``k_j = n_j 8 G* sqrt(R_j delta_j)`` and
 ``W_j = n_j mu_s (4/3) E* sqrt(R_j) delta_j^(3/2)``, which are those of
 ``w_j = n_j sqrt(R_j / R)`` summits of the reference radius ``R``: the
-table keeps these Hertz weights (:attr:`ElementTable.weights`) and every
+table keeps these Hertz weights (the field ``weights`` of :class:`ElementTable`) and every
 kernel sums with them.
 
 The element heights ``h_j = d + delta_j`` are fixed, so a table built at one
 separation can follow a time-varying separation ``d(t)``
-(:func:`element_properties`, MODELS.md 7.5 **Choice**): elements whose
+(:func:`element_properties`; :ref:`guide-pol-ind-varying-load`): elements whose
 summits leave contact carry nothing.  The Pol-Ind model
 (:mod:`polind.models.pol_ind`) builds the table at the run's largest load
 (the flat at its lowest, so every summit that ever touches has an element),
-solves ``d(t)`` on the surface itself (MODELS.md 7.4) and renormalises the
+solves ``d(t)`` on the surface itself (:ref:`guide-pol-ind-separation`) and renormalises the
 capacities so that ``sum_j W_j(t) = mu_s N(t)`` exactly.  The bins are
 placed for the largest load: far below it few bins remain in contact and
 the table's stiffness is coarser (with 64 bins built at 100 N: 0.03 % low at
 50 N, 0.15 % at 5 N, 26 % at 1 N, where one bin is left).
 :meth:`ElementTable.as_surface` gives the alternative of solving ``d(t)`` on
 the table itself.
+
+See the user guide: :ref:`guide-pol-ind-elements`.
 """
 
 from __future__ import annotations
@@ -78,7 +80,7 @@ _TOP_BIN_DECAY = 75.0
 
 @dataclass(frozen=True, eq=False)
 class ElementTable:
-    """Elastic-slip elements of a loaded surface (MODELS.md 7.5).
+    """Elastic-slip elements of a loaded surface (:ref:`guide-pol-ind-elements`).
 
     Attributes
     ----------
@@ -87,7 +89,7 @@ class ElementTable:
     asperities : numpy.ndarray
         Asperities per element ``n_j`` [-] (fractional for bins).
     interference : numpy.ndarray
-        ``delta_j`` [m] at :attr:`separation`.
+        ``delta_j`` [m] at ``separation``.
     stiffness : numpy.ndarray
         ``k_j`` [N/m].
     breakaway_force : numpy.ndarray
@@ -126,7 +128,10 @@ class ElementTable:
 
     @property
     def weight(self) -> np.ndarray:
-        """Each element's share of the load, ``alpha_j = W_j / sum W`` (sums to 1; MODELS.md 7.6)."""
+        """Each element's share of the load, ``alpha_j = W_j / sum W`` (sums to 1).
+
+        See :ref:`guide-pol-ind-law`.
+        """
         return self.breakaway_force / self.breakaway_force.sum()
 
     @property
@@ -169,8 +174,8 @@ class ElementTable:
         Solving this surface for a time-varying load gives the separation at
         which the table itself carries ``N(t)`` exactly, so
         ``sum_j W_j(t) = mu_s N(t)`` at every sample without renormalising.
-        (The Pol-Ind model solves the continuous surface instead, MODELS.md
-        7.4, and renormalises.)
+        (The Pol-Ind model solves the continuous surface instead,
+        :ref:`guide-pol-ind-separation`, and renormalises.)
         """
         from polind.contact.surface import DirectSurface
 

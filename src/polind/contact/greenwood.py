@@ -1,4 +1,6 @@
-"""Greenwood–Williamson integrals of the Gaussian summit-height distribution (MODELS.md 7.3).
+"""Greenwood–Williamson integrals of the Gaussian summit-height distribution.
+
+The user guide, :ref:`guide-pol-ind-summation`.
 
 ``F_m(s) = ∫_s^∞ (t - s)^m phi(t) dt`` with ``phi`` the standard normal
 density, in the normalised variable ``s = d / sigma_a``.  The statistical
@@ -180,7 +182,8 @@ def gw_integral(m, s):
     ----------
     m : {0, 0.5, 1, 1.5}
         Order: 0 gives the fraction of summits in contact, 1 the mean
-        interference, 3/2 the Hertz load and 1/2 its slope (MODELS.md 7.3).
+        interference, 3/2 the Hertz load and 1/2 its slope
+        (:ref:`guide-pol-ind-summation`).
     s : float or array_like
         Normalised separation ``d / sigma_a`` [-].  Accurate to 1e-10
         relative (measured: 3e-12) on :data:`VALID_RANGE` = [-5, 10].

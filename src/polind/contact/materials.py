@@ -1,4 +1,4 @@
-"""Effective elastic moduli of a contacting pair (MODELS.md 7.1).
+"""Effective elastic moduli of a contacting pair (the user guide, :ref:`guide-pol-ind-surface`).
 
 Hertz (normal) and Cattaneo–Mindlin (tangential) contact of two elastic
 bodies behave like a rigid body pressed on one body with effective moduli
@@ -32,7 +32,7 @@ def shear_modulus(youngs_modulus: float, poisson: float) -> float:
 
 
 def effective_moduli(E1: float, nu1: float, E2: float, nu2: float) -> tuple[float, float]:
-    """Effective normal and tangential moduli of a pair of solids (MODELS.md 7.1).
+    """Effective normal and tangential moduli of a pair of solids (:ref:`guide-pol-ind-surface`).
 
     ``1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2`` and
     ``1/G* = (2 - nu1)/G1 + (2 - nu2)/G2`` with ``G = E / (2 (1 + nu))``.

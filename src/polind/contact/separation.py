@@ -1,4 +1,4 @@
-"""The separation under a given normal load: the iterative method (MODELS.md 7.4, approach III).
+"""The separation under a given normal load: the iterative method (approach III).
 
 Solves ``N(d) = N_app`` for the separation ``d`` of a
 :class:`~polind.contact.surface.StatisticalSurface` or a
@@ -39,6 +39,8 @@ Loads the surface cannot carry are :class:`polind.InputError`:
   load it was built for with the flat below its lowest element.  The
   bracket's lower end is where the highest summit alone would carry the
   load, ``h_max - (N / (c_max (4/3) E* sqrt(R)))^(2/3)``.
+
+See the user guide: :ref:`guide-pol-ind-separation`.
 """
 
 from __future__ import annotations
@@ -164,7 +166,7 @@ def _lower_bound(surface, load: float, arguments: tuple) -> float:
 
 
 def solve_separation(surface, normal_load, initial=None, *, full_output=False):
-    """Separation ``d`` at which the surface carries the normal load (MODELS.md 7.4).
+    """Separation ``d`` at which the surface carries the normal load (:ref:`guide-pol-ind-separation`).
 
     Parameters
     ----------

@@ -1,4 +1,4 @@
-"""Rough surfaces pressed by a rigid flat: statistical and direct summation (MODELS.md 7.1, 7.3).
+"""Rough surfaces pressed by a rigid flat: statistical and direct summation.
 
 Two surfaces with one interface, both functions of the separation ``d`` [m]
 between the flat and the mean summit height:
@@ -15,6 +15,9 @@ Each offers ``normal_load(d)``, its slope ``normal_load_slope(d)`` (= dN/dd,
 negative), ``contacts(d)`` and ``real_area(d)``, vectorised over ``d``, and
 the scalar ``load_and_slope(d)`` that the separation solver
 (:mod:`polind.contact.separation`) iterates on.
+
+See the user guide: :ref:`guide-pol-ind-surface` and
+:ref:`guide-pol-ind-summation`.
 """
 
 from __future__ import annotations
@@ -191,6 +194,16 @@ class DirectSurface:
         Each summit's own radius ``R_i`` [m] (default: ``asperity_radius``
         for all).
 
+    Attributes
+    ----------
+    heights : numpy.ndarray
+        The distinct summit heights [m], ascending.
+    counts : numpy.ndarray
+        The number of summits ``c_i`` at each height (floats).
+    weights : numpy.ndarray
+        The Hertz weights ``w_i = c_i sqrt(R_i / R)`` of the summits at each
+        height (see the Notes); ``counts`` itself when every radius is ``R``.
+
     Notes
     -----
     In Hertz and Mindlin contact the radius enters the load
@@ -198,7 +211,7 @@ class DirectSurface:
     ``k = 8 G* sqrt(R delta)`` only through ``sqrt(R)``, so ``c_i`` summits
     of radius ``R_i`` carry exactly the load, stiffness and break-away force
     of ``w_i = c_i sqrt(R_i / R)`` summits of the reference radius ``R``.
-    :attr:`weights` holds these ``w_i``; every kernel (separation, element
+    ``weights`` holds these ``w_i``; every kernel (separation, element
     table, the Pol-Ind step) sums with them and one scalar radius, so
     per-summit radii cost nothing in the hot loops.  Only the count of
     contacts (``c_i``) and the real area (``c_i R_i``) need the radii
@@ -303,7 +316,7 @@ class DirectSurface:
         nominal_area : float, optional
             The nominal contact area ``A0`` [m^2] the model stands for;
             default the map's own area ``A_map = valid_points dx dy``.
-            **Choice** (the user guide, measured surfaces): each measured
+            **Choice** (:ref:`guide-measured-surfaces`): each measured
             summit stands for ``A0 / A_map`` summits, so the surface keeps
             the map's summit density, height and radius distributions.
 

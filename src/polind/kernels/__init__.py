@@ -1,6 +1,6 @@
 """numba kernels: arrays and floats in, arrays out, no Python objects.
 
-All numba options live here (STYLE.md): every kernel is compiled with
+All numba options live here, in one place: every kernel is compiled with
 :data:`JIT_OPTIONS` so the command line reuses numba's on-disk cache instead
 of recompiling on every run.  ``fastmath`` is limited to the flags that let
 LLVM vectorise sums and fuse multiply-adds (reassociation, contraction, no

@@ -1,4 +1,4 @@
-"""The one-degree-of-freedom integrator of MODELS.md 8 as numba kernels.
+"""The one-degree-of-freedom integrator as numba kernels (:ref:`guide-systems`).
 
 A body of mass ``m`` obeys ``m a = F_applied(t, x) - F`` with
 ``F_applied = k_d (v_d t - x) + offset + rate t + amplitude sin(2 pi f t)``
@@ -263,7 +263,7 @@ def solve_step(trial, step_function, tangent_function, memoryless, rest_capacity
 @jit(inline="always")
 def applied_force(time, position, drive_stiffness, drive_velocity, offset, rate, amplitude,
                   angular_frequency):
-    """F_applied(t, x) [N]: the drive spring plus the applied force (MODELS.md 8)."""
+    """F_applied(t, x) [N]: the drive spring plus the applied force (:ref:`guide-systems`)."""
     return (drive_stiffness * (drive_velocity * time - position) + offset + rate * time
             + amplitude * math.sin(angular_frequency * time))
 

@@ -2,7 +2,7 @@
 
 ``math.exp`` is an opaque libm call that LLVM will not vectorise, which makes
 the GMS / Pol-Ind element update (one exponential per element per step,
-MODELS.md 5 and 7.6) cost about 4 ns per element.  This version is plain
+:ref:`guide-gms`) cost about 4 ns per element.  This version is plain
 arithmetic: Cody–Waite range reduction ``x = n ln2 + r`` with ``|r| <= ln2/2``,
 a degree-13 Taylor polynomial for ``exp(r)`` and the factor ``2**n`` built
 from its IEEE-754 bit pattern, so the loop vectorises (about 0.7 ns per

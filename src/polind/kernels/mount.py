@@ -10,7 +10,7 @@ contract (:mod:`polind.kernels.contract`).
 
 Load scaling
 ------------
-With a reference load ``N0 > 0`` (slot :data:`REFERENCE_LOAD`; 0 means
+With a reference load ``N0 > 0`` (slot ``REFERENCE_LOAD``; 0 means
 none) and the normal load ``N`` of a sample, the model's force ``F`` (with
 its viscous part ``sigma2 v``) becomes::
 
@@ -43,7 +43,7 @@ N_MOUNT = 9
 
 def make_mount(stiffness=math.inf, reference_load=0.0, viscous=0.0, rest_capacity=None,
                force_scale=1.0, spring_force=0.0, contact_position=0.0, contact_velocity=0.0):
-    """The mount array (float64, :data:`N_MOUNT` slots) from its values."""
+    """The mount array (float64, ``N_MOUNT`` slots) from its values."""
     mount = np.zeros(N_MOUNT)
     mount[STIFFNESS] = stiffness
     mount[REFERENCE_LOAD] = reference_load

@@ -1,4 +1,4 @@
-"""The separation under a normal load, inside numba kernels (MODELS.md 7.3–7.4).
+"""The separation under a normal load, inside numba kernels.
 
 Kernel versions of the Greenwood–Williamson load integrals and of the
 safeguarded Newton iteration of :mod:`polind.contact.separation`, so that a
@@ -26,6 +26,9 @@ every sample without returning to Python:
   first evaluation meets the tolerance), :func:`predicted_start` the warm
   start of a direct surface from the previous solution and
   :func:`direct_lower_bound` the lower end of a direct surface's bracket.
+
+The mathematics is in the user guide: :ref:`guide-pol-ind-summation` and
+:ref:`guide-pol-ind-separation`.
 
 A surface is passed as plain numbers and arrays: ``kind`` (:data:`STATISTICAL`
 or :data:`DIRECT`), the statistical surface's ``load_scale`` =
@@ -55,7 +58,7 @@ the piece's own variable ``t`` in [-1, 1] gives ``F_m`` itself for
 ``s < 0`` (smooth, growing like ``|s|^m``) and ``F_m(s) / exp(-s²/2)``
 for ``s >= 0`` (smooth, decaying like ``s^-(m+1)``), evaluated by Estrin's
 scheme; the Gaussian factor is ``exp`` of the exactly split ``s²``.  The
-coefficients are built at import (a few milliseconds, :func:`_build_tables`)
+coefficients are built at import (a few milliseconds, ``_build_tables``)
 by Chebyshev interpolation of values computed without any cancellation:
 ``F_m(s) = sqrt(2/pi) ∫_0^∞ u^(2m+1) exp(-(s + u²)²/2) du`` has an even,
 entire, super-exponentially decaying integrand, so the trapezoidal rule
@@ -145,7 +148,7 @@ _NEGATIVE_SCALE = _SQRT_PI / (4.0 * _SQRT_2)
 
 @jit(fastmath=False)
 def gw_half_integer_pair(s, addresses):
-    """``(F_{1/2}(s), F_{3/2}(s))`` of the standard normal density (MODELS.md 7.3).
+    """``(F_{1/2}(s), F_{3/2}(s))`` of the standard normal density (:ref:`guide-pol-ind-summation`).
 
     The formulas of :func:`polind.contact.greenwood.half_integer_pair`:
     ``s > 1e-8`` with ``kve`` of orders 1/4 and 3/4, ``s < -1e-8`` with
@@ -445,7 +448,7 @@ def statistical_start(load, load_scale, height_std):
 
 @jit(fastmath=False)
 def statistical_load_and_slope(d, load_scale, height_std, addresses):
-    """``(N(d), dN/dd)`` of the Gaussian surface summed statistically (MODELS.md 7.3).
+    """``(N(d), dN/dd)`` of the Gaussian surface summed statistically (:ref:`guide-pol-ind-summation`).
 
     ``N = load_scale F_{3/2}(d/sigma_a)``, ``dN/dd = -(3/2) load_scale
     F_{1/2}(d/sigma_a) / sigma_a``, the formulas of
@@ -500,7 +503,7 @@ def tail_moments(heights, counts, d):
 
 @jit(fastmath=False)
 def direct_load_and_slope(d, heights, counts, hertz):
-    """``(N(d), dN/dd)`` of a finite set of summits, a plain sum (MODELS.md 7.1, approach I).
+    """``(N(d), dN/dd)`` of a finite set of summits, a plain sum (approach I, :ref:`guide-pol-ind-summation`).
 
     ``N = hertz sum c_i (h_i - d)^(3/2)`` and ``dN/dd = -(3/2) hertz sum
     c_i (h_i - d)^(1/2)`` over the summits above ``d``, summed from the lowest
@@ -661,7 +664,7 @@ def newton_separation_counted(load, start, lo, hi, kind, load_scale, height_std,
 
 @jit(fastmath=False)
 def newton_separation(load, start, lo, hi, kind, load_scale, height_std, heights, counts, hertz, addresses):
-    """Separation ``d`` with ``N(d) = load``: safeguarded Newton on ``log N`` (MODELS.md 7.4).
+    """Separation ``d`` with ``N(d) = load``: safeguarded Newton on ``log N``.
 
     The root is kept in the bracket ``[lo, hi]`` (``N(lo) >= load >= N(hi)``);
     each step is a Newton step on ``log N(d) - log load``, replaced by
@@ -669,7 +672,8 @@ def newton_separation(load, start, lo, hi, kind, load_scale, height_std, heights
     ``|N(d) - load| <= 1e-10 load`` (a statistical surface, whose ``N`` is
     the fast pair's: ``<= 0.9e-10 load``, :data:`STATISTICAL_STOP`), or when
     the bracket has shrunk to adjacent doubles, returning then the best ``d``
-    evaluated.  :mod:`polind.contact.separation` runs this kernel.
+    evaluated.  :mod:`polind.contact.separation` runs this kernel
+    (:ref:`guide-pol-ind-separation`).
 
     Parameters
     ----------

@@ -1,4 +1,4 @@
-"""The Stribeck curve g(v) of MODELS.md section 0, as a scalar kernel.
+"""The Stribeck curve g(v) (:ref:`guide-stribeck-curve`), as a scalar kernel.
 
 ``shape`` is an integer code so kernels stay free of Python objects:
 :data:`EXPONENTIAL` for ``g = Fc + (Fs - Fc) exp(-|v/vs|^delta)`` and
@@ -34,7 +34,7 @@ def stribeck_curve(v, coulomb_force, static_force, stribeck_velocity, exponent, 
 
 @jit(inline="always")
 def sign(v):
-    """sgn with sgn(0) = 0 (MODELS.md 0)."""
+    """sgn with sgn(0) = 0 (:ref:`guide-conventions`)."""
     if v > 0.0:
         return 1.0
     if v < 0.0:

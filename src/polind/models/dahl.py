@@ -1,4 +1,4 @@
-"""The Dahl model (MODELS.md 2), integrated exactly in the travelled distance."""
+"""The Dahl model (the user guide, :ref:`guide-dahl`), integrated exactly in the distance."""
 
 from __future__ import annotations
 

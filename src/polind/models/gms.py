@@ -1,4 +1,4 @@
-"""The Generalized Maxwell-slip model (MODELS.md 5)."""
+"""The Generalized Maxwell-slip model (the user guide, :ref:`guide-gms`)."""
 
 from __future__ import annotations
 
@@ -28,7 +28,7 @@ class GMS(FrictionModel):
     attraction : float
         C [N/s], how fast a slipping element approaches the Stribeck curve.
     coulomb_force, static_force, stribeck_velocity, stribeck_exponent, stribeck_shape
-        The Stribeck curve g(v) (MODELS.md 0).
+        The Stribeck curve g(v) (:ref:`guide-stribeck-curve`).
     viscous_coefficient : float, default 0
         sigma2 [N s/m].
     """

@@ -1,4 +1,4 @@
-"""The modified Leuven model (MODELS.md 6) with a Maxwell-slip hysteresis force."""
+"""The modified Leuven model (the user guide, :ref:`guide-leuven`), a Maxwell-slip hysteresis force."""
 
 from __future__ import annotations
 
@@ -15,8 +15,8 @@ from polind.models.params import Param, STRIBECK_PARAMS, VISCOUS, same_length, s
 class Leuven(FrictionModel):
     """Leuven: ``dz/dt = v (1 - sgn(Fh/s)|Fh/s|^n)``, ``F = Fh(z) + sigma1 dz/dt + sigma2 v``.
 
-    ``Fh(z)`` is a Maxwell-slip structure driven by ``z`` (MODELS.md 6,
-    **Choice**), which gives it non-local memory.  The state equation is
+    ``Fh(z)`` is a Maxwell-slip structure driven by ``z`` (a choice of polind's,
+    :ref:`guide-leuven`), which gives it non-local memory.  The state equation is
     integrated by backward Euler with a safeguarded Newton solve per step:
     unconditionally stable, but *approximate*, first order in the step (the
     error is tested against a fine-step reference in the test suite).  In
@@ -31,7 +31,7 @@ class Leuven(FrictionModel):
     cannot reach the Stribeck curve: ``sum W_i = Fs`` bounds ``|Fh|`` below
     ``g(v)``, so ``dz/dt`` never vanishes and steady sliding gives
     ``Fs + sigma1 v (1 - (Fs/g(v))^n) + sigma2 v``.  That follows from
-    MODELS.md 6 as written; polind keeps it rather than change the model.
+    the model's equations as written; polind keeps it rather than change the model.
 
     Parameters
     ----------
@@ -46,7 +46,7 @@ class Leuven(FrictionModel):
     viscous_coefficient : float, default 0
         sigma2 [N s/m].
     coulomb_force, static_force, stribeck_velocity, stribeck_exponent, stribeck_shape
-        The Stribeck curve s(v) = sgn(v) g(v) (MODELS.md 0).
+        The Stribeck curve s(v) = sgn(v) g(v) (:ref:`guide-stribeck-curve`).
     """
 
     type = "leuven"
@@ -76,7 +76,7 @@ class Leuven(FrictionModel):
 
     @classmethod
     def couple_fit(cls, params, keys, start):
-        # The break-away forces sum to Fs (MODELS.md 6): move the other with the free one.
+        # The break-away forces sum to Fs (user guide, "Leuven"): move the other with the free one.
         if "breakaway_force" in keys:
             params["static_force"] = math.fsum(params["breakaway_force"])
         elif "static_force" in keys:

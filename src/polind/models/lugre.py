@@ -1,4 +1,4 @@
-"""The LuGre model (MODELS.md 3), with the exact exponential state update."""
+"""The LuGre model (the user guide, :ref:`guide-lugre`), with the exact exponential state update."""
 
 from __future__ import annotations
 
@@ -28,7 +28,7 @@ class LuGre(FrictionModel):
     viscous_coefficient : float, default 0
         sigma2 [N s/m].
     coulomb_force, static_force, stribeck_velocity, stribeck_exponent, stribeck_shape
-        The Stribeck curve g(v) (MODELS.md 0).
+        The Stribeck curve g(v) (:ref:`guide-stribeck-curve`).
 
     Examples
     --------

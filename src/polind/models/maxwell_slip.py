@@ -1,4 +1,5 @@
-"""The Maxwell-slip model (MODELS.md 4): elastic-perfectly-plastic elements in parallel."""
+"""The Maxwell-slip model (the user guide, :ref:`guide-maxwell-slip`): elastic-perfectly-plastic
+elements in parallel."""
 
 from __future__ import annotations
 
@@ -11,7 +12,7 @@ from polind.models.params import Param, VISCOUS, same_length
 
 
 def virgin_curve(x, stiffness, breakaway_force):
-    """phi(x) = sgn(x) sum_i k_i min(|x|, D_i), D_i = W_i/k_i [N] (MODELS.md 4)."""
+    """phi(x) = sgn(x) sum_i k_i min(|x|, D_i), D_i = W_i/k_i [N] (:ref:`guide-maxwell-slip`)."""
     x = np.asarray(x, dtype=np.float64)
     k = np.asarray(stiffness, dtype=np.float64)
     slip = np.asarray(breakaway_force, dtype=np.float64) / k

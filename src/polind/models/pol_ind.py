@@ -1,14 +1,14 @@
-"""The Pol-Ind model (MODELS.md 7): GMS elements built from asperity mechanics.
+"""The Pol-Ind model: GMS elements built from asperity mechanics (:ref:`guide-pol-ind`).
 
 Approach I (single asperities, Hertz and elastic slip) and the
 Greenwood–Williamson statistics live in :mod:`polind.contact`; approach III
 (the iterative separation solver) too.  This module assembles them into the
 modified Maxwell-slip structure of approach II and runs it with the GMS
-rate-state law of MODELS.md 7.6 on the project's one element machinery
+rate-state law (:ref:`guide-pol-ind-law`) on the project's one element machinery
 (:mod:`polind.kernels.elements`).
 
-**Choices** where the spec leaves room (MODELS.md 7.5 gives the rules for a
-time-varying load):
+**Choices** where the model leaves room (:ref:`guide-pol-ind-varying-load`
+gives the rules for a time-varying load):
 
 * The element table (bin or asperity heights ``h_j`` and counts ``n_j``) is
   built once per run at the separation of the run's *largest* normal load,
@@ -20,8 +20,8 @@ time-varying load):
 * A continuation (``state=``) reuses the state's table; a load above the
   load the table was built for is an error (start the first chunk with the
   largest load, or pass the whole record at once).
-* The separation ``d(t)`` is solved on the continuous surface (MODELS.md
-  7.4).  Statistical bins are placed for the largest load, so far below it
+* The separation ``d(t)`` is solved on the continuous surface
+  (:ref:`guide-pol-ind-separation`).  Statistical bins are placed for the largest load, so far below it
   the table is coarser: with 64 bins built at 100 N the presliding
   stiffness is 0.03 % low at 50 N, 0.15 % at 5 N and 26 % at 1 N (one bin
   left in contact).  For loads that vary over decades, use more elements.
@@ -56,8 +56,8 @@ _SURFACE = Table("surface", (
     Param("asperity_radius", unit="m", default=None),
     Param("height_std", unit="m", default=None),
     Param("topography", kind="path", default=None),
-    Param("pixel_size", kind="pair", unit="m", default=None),
-    Param("short_cutoff", unit="m", default=None),
+    Param("pixel_size", kind="pair", unit="m", default=None, fittable=False),
+    Param("short_cutoff", unit="m", default=None, fittable=False),
 ))
 _MATERIALS = Table("materials", (
     Param("youngs_modulus", kind="pair", unit="Pa"),
@@ -74,7 +74,7 @@ _DISCRETISATION = Table("discretisation", (
 
 
 def default_table() -> dict:
-    """The default Pol-Ind ``[model]`` table of INTERFACE.md (a steel pair under 100 N)."""
+    """The default Pol-Ind ``[model]`` table (a steel pair under 100 N; :ref:`formats-model-files`)."""
     return {
         "type": "pol-ind",
         "normal_load": 100.0,
@@ -130,7 +130,7 @@ def _surface_of(params):
 
 @register
 class PolInd(FrictionModel):
-    """The Pol-Ind friction model (MODELS.md 7.6).
+    """The Pol-Ind friction model (the user guide, :ref:`guide-pol-ind-law`).
 
     Each element ``j`` carries ``n_j`` asperities at interference
     ``delta_j``: stiffness ``k_j = n_j 8 G* sqrt(R delta_j)``, share of the
@@ -140,8 +140,11 @@ class PolInd(FrictionModel):
     ``s(v) = sgn(v) N [mu_k + (mu_s - mu_k) exp(-|v/vs|^delta)]``.
     ``F = sum F_j + sigma2 v``.
 
-    Parameters (model-file keys; SI units)
-    --------------------------------------
+    The parameters are the keys of the ``[model]`` table of a model file
+    (:ref:`formats-model-files`), in SI units.
+
+    Parameters
+    ----------
     normal_load : float
         N [N]; a ``normal_load`` array given to :func:`polind.simulate`
         replaces it sample by sample.
@@ -292,7 +295,7 @@ class PolInd(FrictionModel):
         return self._contacts[load]
 
     def element_table(self, normal_load=None):
-        """The modified Maxwell-slip element table at a normal load (MODELS.md 7.5)."""
+        """The modified Maxwell-slip element table at a normal load (:ref:`guide-pol-ind-elements`)."""
         return self.contact(normal_load).elements
 
     def statistical_equivalent(self) -> "PolInd":
@@ -322,11 +325,12 @@ class PolInd(FrictionModel):
         return type(self)(**params)
 
     def gms_parameters(self, normal_load=None) -> dict:
-        """The GMS parameters (MODELS.md 5) this model is at a constant normal load (7.6).
+        """The GMS parameters (:ref:`guide-gms`) this model is at a constant normal load.
 
         ``stiffness`` and ``weight`` (arrays) of the element table at the load,
         ``coulomb_force = mu_k N``, ``static_force = mu_s N``, and the model's
-        own Stribeck velocity, exponent, shape, attraction and viscous term.
+        own Stribeck velocity, exponent, shape, attraction and viscous term
+        (:ref:`guide-pol-ind-law`).
         """
         p = self._params
         load = p["normal_load"] if normal_load is None else float(normal_load)
@@ -429,7 +433,8 @@ class PolInd(FrictionModel):
         return scalars, table
 
     def characteristic_scales(self):
-        # At its constant load Pol-Ind is a GMS (MODELS.md 7.6): its scales are that GMS's.
+        # At its constant load Pol-Ind is a GMS (the user guide, 'The rate-state law'):
+        # its scales are that GMS's.
         return gms_scales(self.gms_parameters())
 
     def force_scale(self):

@@ -1,7 +1,7 @@
-"""The memoryless models of MODELS.md 1: Coulomb and Stribeck.
+"""The memoryless models (the user guide, :ref:`guide-static-models`): Coulomb and Stribeck.
 
 They have no state: the force at sample k is a function of the velocity
-reported at that sample, ``F[k] = f(v[k])`` (INTERFACE.md), with
+reported at that sample, ``F[k] = f(v[k])`` (:ref:`guide-simulate-path`), with
 ``sgn(0) = 0`` so a body at rest carries no friction force.
 """
 
@@ -15,7 +15,7 @@ from polind.models.params import Param, STRIBECK_PARAMS, VISCOUS
 
 def stribeck_curve(v, coulomb_force, static_force, stribeck_velocity, stribeck_exponent=2.0,
                    stribeck_shape="exponential"):
-    """g(v) [N] of MODELS.md 0 for an array of velocities [m/s] (NumPy version)."""
+    """g(v) [N] (:ref:`guide-stribeck-curve`) for an array of velocities [m/s] (NumPy version)."""
     ratio = np.abs(np.asarray(v, dtype=np.float64) / stribeck_velocity) ** stribeck_exponent
     decay = 1.0 / (1.0 + ratio) if stribeck_shape == "rational" else np.exp(-ratio)
     return coulomb_force + (static_force - coulomb_force) * decay
@@ -77,7 +77,7 @@ class Coulomb(FrictionModel):
 
 @register
 class Stribeck(FrictionModel):
-    """Static Stribeck friction ``F = g(v) sgn(v) + sigma2 v`` (MODELS.md 1).
+    """Static Stribeck friction ``F = g(v) sgn(v) + sigma2 v`` (:ref:`guide-static-models`).
 
     Parameters
     ----------

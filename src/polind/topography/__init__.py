@@ -1,4 +1,4 @@
-"""Measured surfaces: height maps, summits and summit radii (the user guide, measured surfaces).
+"""Measured surfaces: height maps, summits and summit radii (:ref:`guide-measured-surfaces`).
 
 A profilometer, interferometer or AFM height map becomes the set of asperity
 summits that the Pol-Ind model's direct summation sums over, each with its

@@ -3,8 +3,8 @@
 :func:`analyse` runs the steps of :mod:`polind.topography.summits` on a
 :class:`~polind.topography.heightmap.HeightMap` (levelling, the optional
 low-pass, summits, curvatures) and returns a :class:`MeasuredSurface`: the
-summit heights and radii that direct summation sums over (the user guide,
-measured surfaces), and the statistics of the map:
+summit heights and radii that direct summation sums over
+(:ref:`guide-measured-surfaces`), and the statistics of the map:
 
 - summit density ``eta = summits / (valid_points dx dy)``;
 - the equivalent Greenwood–Williamson surface: this ``eta``,

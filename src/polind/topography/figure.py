@@ -13,14 +13,13 @@ Five panels (:func:`topography_figure`):
    own radii, ``N(d) = (4/3) E* sum_{h_i > d} sqrt(R_i) (h_i - d)^(3/2)``,
    against the statistical sum of the Greenwood–Williamson equivalent,
    ``N(d) = (4/3) n E* sqrt(R) sigma_a^(3/2) F_{3/2}(d / sigma_a)`` with
-   ``n`` the number of summits (the user guide, Pol-Ind model, summation
-   over the surface);
+   ``n`` the number of summits (:ref:`guide-pol-ind-summation`);
 5. the presliding virgin curve ``F(u) = sum_j min(k_j u, W_j)`` of the
    Pol-Ind elements at a normal load (default 1 N, at most half of what the
    map's summits carry), normalised by ``mu_s N``: the direct summation over
    the measured summits (one element per summit in contact, ``k_j = 8 G*
    sqrt(R_j delta_j)``, ``W_j = mu_s P_j``) against the 256-element table of
-   the Greenwood–Williamson equivalent (the user guide, measured surfaces).
+   the Greenwood–Williamson equivalent (:ref:`guide-measured-surfaces`).
 
 matplotlib is imported here only, on first use; nothing is written to disk
 (the command line writes :func:`figure_png`'s bytes with its safe writer).

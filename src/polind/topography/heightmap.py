@@ -1,4 +1,4 @@
-"""Measured height maps in, heights in metres out (the user guide, measured surfaces).
+"""Measured height maps in, heights in metres out (:ref:`guide-measured-surfaces`).
 
 A height map is a regular grid of heights ``h[i, j]`` at ``x = i dx``,
 ``y = j dy`` (the first index runs along ``x``, as in SurfaceTopography's

@@ -1,4 +1,4 @@
-"""From a height map to asperity summits and their radii (the user guide, measured surfaces).
+"""From a height map to asperity summits and their radii (:ref:`guide-measured-surfaces`).
 
 The steps, each a function on a grid ``h[i, j]`` at ``x = i dx``, ``y = j dy``
 with ``NaN`` for a missing point (missing points stay missing throughout):

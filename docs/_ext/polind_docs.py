@@ -1,0 +1,713 @@
+"""Sphinx extension of polind's documentation: tables made from the code, offline MathJax.
+
+Directives (each reads polind's own declarations at build time, so the pages
+cannot drift from what polind reads and writes):
+
+``.. polind-model-keys::``
+    One section per registered model type (``polind.MODEL_TYPES``), labelled
+    ``formats-model-<type>``, with a table of every key of its ``[model]``
+    table and of its nested tables: key, what it is, unit, default, range.
+    Built from the ``Param`` and ``Table`` declarations of the model classes.
+    A declared key without a description here is a build warning (and so a
+    failure of ``tests/test_docs.py``): a new key must be explained.
+``.. polind-system-keys::``
+    The keys of a ``[system]`` file (``polind.dynamics.FILE_KEYS`` and the
+    file reader's schema).
+``.. polind-sweep-keys::`` and ``.. polind-sweep-metrics::``
+    The keys of a ``[sweep]`` table and the metrics of ``polind.sweep.METRICS``.
+``.. polind-columns:: motion|data``
+    The columns of a motion file and of a measured-data file.
+``.. polind-default-bounds::``
+    The default bounds of a free parameter by unit
+    (``polind.identification.DEFAULT_RANGES``).
+``.. polind-model-types::``
+    The registered model types with their classes.
+
+Besides: the API pages of the public names (``write_api_pages``, called from
+``conf.py`` before the sources are read, so autosummary sees them), the
+gallery's command line (:func:`gallery_argv`) and image scraper
+(:class:`PngScraper`), and the copy of MathJax into the build.
+"""
+
+from __future__ import annotations
+
+import importlib
+import importlib.metadata
+import math
+import shutil
+from pathlib import Path
+
+from docutils import nodes
+from docutils.parsers.rst import directives
+from docutils.statemachine import StringList
+from sphinx.util import logging
+from sphinx.util.docutils import SphinxDirective
+from sphinx.util.nodes import nested_parse_with_titles
+
+logger = logging.getLogger(__name__)
+
+# --- what each key means ---------------------------------------------------------------------
+#
+# Keyed by the dotted key; ``(type, key)`` overrides where one model gives a key another
+# meaning.  Units, defaults and ranges are NOT written here: they come from the
+# declarations.
+
+DESCRIPTIONS = {
+    "coulomb_force": r"Coulomb (kinetic) friction level :math:`F_c`: the force of steady "
+                     r"sliding well above the Stribeck velocity.",
+    "static_force": r"Static friction level :math:`F_s`, the Stribeck curve at rest; "
+                    r":math:`F_s < F_c` makes the friction velocity-strengthening.",
+    "stribeck_velocity": r"Stribeck velocity :math:`v_s`: the speed over which the force "
+                         r"falls from the static to the kinetic level.",
+    "stribeck_exponent": r"Stribeck exponent :math:`\delta` of the curve's shape.",
+    "stribeck_shape": r'Shape of the Stribeck curve: ``"exponential"`` '
+                      r':math:`e^{-|v/v_s|^\delta}` or ``"rational"`` '
+                      r":math:`1/(1 + |v/v_s|^\delta)` (:ref:`guide-stribeck-curve`).",
+    "viscous_coefficient": r"Viscous coefficient :math:`\sigma_2`: the force "
+                           r":math:`\sigma_2 v` added to the friction (never scaled by a "
+                           r"normal load).",
+    "reference_load": r"Reference normal load :math:`N_0`: the load the force levels were "
+                      r"measured at. With it, a normal-load signal scales the force "
+                      r"(:ref:`guide-normal-load`); without it the signal is ignored.",
+    "compliance": r"Optional table: a linear spring in series with the contact "
+                  r"(:ref:`guide-series-compliance`).",
+    "compliance.stiffness": r"Series stiffness :math:`k_s` of the rig, holders and bodies.",
+    ("dahl", "stiffness"): r"Dahl stiffness :math:`\sigma_0`: the slope of the force "
+                           r"against displacement after a reversal.",
+    ("dahl", "exponent"): r"Dahl exponent :math:`\alpha`: the shape of the approach to "
+                          r":math:`F_c` (1 gives the exponential).",
+    "bristle_stiffness": r"Bristle stiffness :math:`\sigma_0`: the presliding stiffness.",
+    "bristle_damping": r"Bristle damping :math:`\sigma_1`: the force "
+                       r":math:`\sigma_1 \dot z` of the bristle's deflection rate.",
+    ("maxwell-slip", "stiffness"): r"Element stiffnesses :math:`k_i`, one per element.",
+    ("maxwell-slip", "breakaway_force"): r"Element break-away forces :math:`W_i`, one per "
+                                         r"element; the largest friction force is "
+                                         r":math:`\sum_i W_i`.",
+    ("gms", "stiffness"): r"Element stiffnesses :math:`k_i`, one per element.",
+    ("gms", "weight"): r"Element weights :math:`\alpha_i`, each element's share of the "
+                       r"Stribeck curve; positive, summing to 1 within :math:`10^{-9}`.",
+    "attraction": r"Attraction parameter :math:`C`: how fast a slipping element's force "
+                  r"approaches its share of the Stribeck curve.",
+    ("leuven", "stiffness"): r"Stiffnesses :math:`k_i` of the hysteresis elements.",
+    ("leuven", "breakaway_force"): r"Break-away forces :math:`W_i` of the hysteresis "
+                                   r"elements, summing to ``static_force`` within "
+                                   r":math:`10^{-9}`.",
+    ("leuven", "exponent"): r"Exponent :math:`n` of the state equation.",
+    "normal_load": r"Normal load :math:`N` pressing the surfaces together; a "
+                   r"``normal_load`` signal replaces it sample by sample.",
+    "static_coefficient": r"Static friction coefficient :math:`\mu_s`: break-away at "
+                          r":math:`\mu_s N`.",
+    "kinetic_coefficient": r"Kinetic friction coefficient :math:`\mu_k`: sliding at "
+                           r":math:`\mu_k N` well above :math:`v_s`.",
+    "surface": r"The rough surface (:ref:`guide-pol-ind-surface`).",
+    "surface.asperity_density": r"Summit density :math:`\eta`, summits per unit nominal "
+                                r"area. Required unless the summits come from a file.",
+    "surface.nominal_area": r"Nominal (apparent) contact area :math:`A_0`. Required unless "
+                            r"the summits come from a file; with a measured ``topography``, "
+                            r"optional (default: the map's own area).",
+    "surface.asperity_radius": r"Summit radius :math:`R`, the same for every summit of a "
+                               r"Gaussian surface.",
+    "surface.height_std": r"Standard deviation :math:`\sigma_a` of the summit heights. "
+                          r"Required unless the summits come from a file.",
+    "surface.topography": r"A measured height map (any format SurfaceTopography reads, or "
+                          r"a ``.npy`` / ``.csv`` grid), relative to the model file: the "
+                          r"summits, their heights and radii come from it "
+                          r"(:ref:`guide-measured-surfaces`).",
+    "surface.pixel_size": r"Grid spacings :math:`[\Delta x, \Delta y]` of a ``.npy`` or "
+                          r"``.csv`` height map (other formats carry their own).",
+    "surface.short_cutoff": r"Optional Gaussian low-pass (ISO 16610-61) of the height map "
+                            r"before the summits are found: the wavelength passed at 50 %.",
+    "materials": r"The two bodies' elastic constants (:ref:`guide-pol-ind-surface`).",
+    "materials.youngs_modulus": r"Young's moduli :math:`[E_1, E_2]` of the two bodies.",
+    "materials.poisson_ratio": r"Poisson's ratios :math:`[\nu_1, \nu_2]` of the two bodies.",
+    "discretisation": r"How the surface becomes elements (:ref:`guide-pol-ind-elements`).",
+    "discretisation.summation": r'``"statistical"`` (height bins of the Gaussian) or '
+                                r'``"direct"`` (one element per summit).',
+    "discretisation.elements": r"Statistical summation: the number of height bins "
+                               r"(elements).",
+    "discretisation.seed": r"Direct summation: the seed of the random summit heights drawn "
+                           r"from the Gaussian.",
+    "discretisation.heights_file": r"Direct summation: a CSV file of measured summit "
+                                   r"heights (column ``h``, m), relative to the model file; "
+                                   r"replaces ``asperity_density``, ``nominal_area`` and "
+                                   r"``height_std``.",
+}
+
+SYMBOLS = {
+    "coulomb_force": "F_c", "static_force": "F_s", "stribeck_velocity": "v_s",
+    "stribeck_exponent": r"\delta", "viscous_coefficient": r"\sigma_2",
+    "reference_load": "N_0", "compliance.stiffness": "k_s",
+    ("dahl", "stiffness"): r"\sigma_0", ("dahl", "exponent"): r"\alpha",
+    "bristle_stiffness": r"\sigma_0", "bristle_damping": r"\sigma_1",
+    ("maxwell-slip", "stiffness"): "k_i", ("maxwell-slip", "breakaway_force"): "W_i",
+    ("gms", "stiffness"): "k_i", ("gms", "weight"): r"\alpha_i", "attraction": "C",
+    ("leuven", "stiffness"): "k_i", ("leuven", "breakaway_force"): "W_i",
+    ("leuven", "exponent"): "n", "normal_load": "N", "static_coefficient": r"\mu_s",
+    "kinetic_coefficient": r"\mu_k", "surface.asperity_density": r"\eta",
+    "surface.nominal_area": "A_0", "surface.asperity_radius": "R",
+    "surface.height_std": r"\sigma_a",
+}
+
+# The order of the sections (a registered type not named here comes after them).
+MODEL_ORDER = ("coulomb", "stribeck", "dahl", "lugre", "maxwell-slip", "gms", "leuven",
+               "pol-ind")
+MODEL_NAMES = {"coulomb": "Coulomb", "stribeck": "Stribeck", "dahl": "Dahl",
+               "lugre": "LuGre", "maxwell-slip": "Maxwell-slip",
+               "gms": "Generalized Maxwell-slip (GMS)", "leuven": "Leuven (modified)",
+               "pol-ind": "Pol-Ind"}
+MODEL_GUIDE = {"coulomb": "guide-static-models", "stribeck": "guide-static-models",
+               "dahl": "guide-dahl", "lugre": "guide-lugre",
+               "maxwell-slip": "guide-maxwell-slip", "gms": "guide-gms",
+               "leuven": "guide-leuven", "pol-ind": "guide-pol-ind"}
+
+RANGES = {
+    "positive": "> 0",
+    "nonnegative": "≥ 0",
+    "any": "any finite number",
+    "poisson": "−1 < ν ≤ 0.5",
+    "fraction": "0 < value ≤ 1",
+}
+
+
+def _lookup(table, model_type, key):
+    return table.get((model_type, key), table.get(key))
+
+
+def _number(value) -> str:
+    if isinstance(value, float):
+        text = repr(value)
+        if text.endswith(".0") and abs(value) < 1e6:
+            text = text[:-2]
+        return text
+    return repr(value) if not isinstance(value, str) else f'"{value}"'
+
+
+def _default_text(entry, required, table_kind=False) -> str:
+    default = entry.default
+    if default is required:
+        return "required"
+    if default is None:
+        return "optional table" if table_kind else "optional"
+    if table_kind:
+        return "optional table"
+    if isinstance(default, (list, tuple)):
+        return "[" + ", ".join(_number(v) for v in default) + "]"
+    return _number(default)
+
+
+def _range_text(param) -> str:
+    if param.kind in ("str", "path"):
+        if param.choices:
+            return " or ".join(f'``"{choice}"``' for choice in param.choices)
+        return "a file name" if param.kind == "path" else "a non-empty string"
+    bound = RANGES.get(param.bound, param.bound)
+    if param.kind == "int":
+        return f"integer, {bound}"
+    if param.kind == "list":
+        return f"non-empty list, each {bound}"
+    if param.kind == "pair":
+        return f"two numbers, each {bound}"
+    return bound
+
+
+def _cell(text: str) -> list[str]:
+    return [line for line in str(text).splitlines()] or [""]
+
+
+def list_table(header, rows, widths=None, label=None, css="") -> list[str]:
+    """The lines of a ``list-table`` directive (classes ``polind-keys`` and ``css``)."""
+    lines = []
+    if label:
+        lines += [f".. _{label}:", ""]
+    lines += [".. list-table::", "   :header-rows: 1",
+              "   :class: polind-keys" + (f" {css}" if css else "")]
+    if widths:
+        lines.append("   :widths: " + " ".join(str(w) for w in widths))
+    lines.append("")
+    for row in [header] + rows:
+        first = True
+        for cell in row:
+            cell_lines = _cell(cell)
+            prefix = "   * - " if first else "     - "
+            lines.append(prefix + cell_lines[0])
+            lines.extend("       " + extra for extra in cell_lines[1:])
+            first = False
+    lines.append("")
+    return lines
+
+
+def model_key_rows(model_type, cls, warn=None):
+    """``(dotted key, rows)`` of a model's declared keys, nested tables flattened."""
+    from polind.models.params import REQUIRED, Table
+
+    rows = []
+
+    def walk(entries, prefix):
+        for entry in entries:
+            key = prefix + entry.key
+            description = _lookup(DESCRIPTIONS, model_type, key)
+            if description is None:
+                description = ""
+                if warn is not None:
+                    warn(f"the key '{key}' of the {model_type} model has no description in "
+                         f"docs/_ext/polind_docs.py (DESCRIPTIONS)")
+            symbol = _lookup(SYMBOLS, model_type, key)
+            what = description if symbol is None or f":math:`{symbol}`" in description \
+                else f":math:`{symbol}` — {description}"
+            if isinstance(entry, Table):
+                rows.append((key, [f"``[model.{key}]``", what, "", _default_text(
+                    entry, REQUIRED, table_kind=True), "table"]))
+                walk(entry.entries, key + ".")
+            else:
+                shown = key.rpartition(".")[2]
+                where = f"``{shown}``" if "." not in key else \
+                    f"``{shown}`` (in ``[model.{key.rpartition('.')[0]}]``)"
+                default = _default_text(entry, REQUIRED)
+                if "." in key and default == "required":
+                    default = "required in its table"
+                rows.append((key, [where, what, entry.unit or "—", default,
+                                   _range_text(entry)]))
+
+    walk(cls.parameters, "")
+    return rows
+
+
+def _ordered_types():
+    from polind.models import MODEL_TYPES
+
+    known = [name for name in MODEL_ORDER if name in MODEL_TYPES]
+    return known + sorted(name for name in MODEL_TYPES if name not in known)
+
+
+def _parse(directive, lines):
+    """Parse generated reST lines (with section titles) into nodes."""
+    node = nodes.section() if any(line.startswith("---") or line.startswith("~~~")
+                                  for line in lines) else nodes.container()
+    node.document = directive.state.document
+    content = StringList(lines, source=f"<{directive.name}>")
+    nested_parse_with_titles(directive.state, content, node)
+    return node.children
+
+
+class ModelKeys(SphinxDirective):
+    """One section per registered model type with the table of its keys."""
+
+    has_content = False
+
+    def run(self):
+        from polind.models import MODEL_TYPES
+
+        lines = []
+        source, line = self.get_source_info()
+
+        def warn(message):
+            logger.warning(message, location=(source, line))
+
+        for model_type in _ordered_types():
+            cls = MODEL_TYPES[model_type]
+            title = f"``{model_type}``: {MODEL_NAMES.get(model_type, cls.__name__)}"
+            guide = MODEL_GUIDE.get(model_type)
+            lines += [f".. _formats-model-{model_type}:", "", title, "~" * (len(title) + 4), ""]
+            intro = f'``type = "{model_type}"``, the class :class:`{cls.__module__}.' \
+                    f'{cls.__name__}`' if cls.__module__.startswith("polind.models") is False \
+                else f'``type = "{model_type}"``'
+            if guide:
+                intro += f"; the equations are in :ref:`{guide}`"
+            lines += [intro + ".", ""]
+            rows = [row for _, row in model_key_rows(model_type, cls, warn)]
+            lines += list_table(["key", "what it is", "unit", "default", "range"], rows,
+                                widths=[22, 48, 8, 10, 12], css=f"polind-model-{model_type}")
+        return _parse(self, lines)
+
+
+class SystemKeys(SphinxDirective):
+    """The keys of a [system] file, from the reader's schema and FILE_KEYS."""
+
+    UNITS = {"mass": "kg", "duration": "s", "time_step": "s",
+             "spring_drive.stiffness": "N/m", "spring_drive.velocity": "m/s",
+             "force.offset": "N", "force.rate": "N/s", "force.amplitude": "N",
+             "force.frequency": "Hz"}
+    WHAT = {"mass": r"Mass :math:`m` of the body.",
+            "duration": "Length of the run.",
+            "time_step": "Output sample spacing and integration step; at most the duration.",
+            "spring_drive.stiffness": r"Stiffness :math:`k_d` of the drive spring.",
+            "spring_drive.velocity": r"Velocity :math:`v_d` at which the spring's far end "
+                                     r"is pulled.",
+            "force.offset": r"Constant part of the applied force :math:`F_a(t)`.",
+            "force.rate": "Slope of the applied force's ramp.",
+            "force.amplitude": "Amplitude of the applied force's sine.",
+            "force.frequency": "Frequency of the applied force's sine."}
+
+    def run(self):
+        import dataclasses
+
+        from polind import dynamics
+
+        defaults = {item.name: item.default for item in dataclasses.fields(dynamics.System)}
+        declarations = getattr(dynamics, "_KEYS", {})
+        rows = []
+        source, line = self.get_source_info()
+        for key, field_name in dynamics.FILE_KEYS.items():
+            table, _, name = key.rpartition(".")
+            where = "system" + ("." + table if table else "")
+            declared = declarations.get(key)
+            default = defaults.get(field_name, dataclasses.MISSING)
+            required = declared.required if declared is not None \
+                else default is dataclasses.MISSING
+            default_text = "required" if required else _number(float(default))
+            bound = RANGES.get(getattr(declared, "bound", "any"), "")
+            what = self.WHAT.get(key)
+            if what is None:
+                logger.warning(f"the [system] key '{key}' has no description in "
+                               f"docs/_ext/polind_docs.py", location=(source, line))
+                what = ""
+            rows.append([f"``{name}`` in ``[{where}]``", what, self.UNITS.get(key, "—"),
+                         default_text, bound, f"``{field_name}``"])
+        lines = list_table(["key", "what it is", "unit", "default", "range",
+                            ":class:`~polind.System` field"], rows,
+                           widths=[24, 40, 8, 10, 10, 16])
+        return _parse(self, lines)
+
+
+class SweepKeys(SphinxDirective):
+    """The keys of a [sweep] table."""
+
+    WHAT = {
+        "model": "The model file (relative to the sweep file). Required.",
+        "system": "A ``[system]`` file: every run is that one-degree-of-freedom system. "
+                  "Exactly one of ``system`` and ``motion``.",
+        "motion": "A motion file (``t`` and ``x`` or ``v``, optionally ``normal_load``): "
+                  "every run is that prescribed motion.",
+        "metrics": "The metrics to keep, a non-empty list of names (table below).",
+        "method": '``"grid"`` (default), ``"latin-hypercube"`` or ``"random"``.',
+        "samples": "The number of runs of a Latin-hypercube or random design (required for "
+                   "them).",
+        "seed": "The seed of a Latin-hypercube or random design (default 0): the same file "
+                "gives the same runs.",
+        "parameters": "The table ``[sweep.parameters]`` of the keys to vary (below).",
+    }
+
+    def run(self):
+        from polind.sweep import _SWEEP_KEYS
+
+        source, line = self.get_source_info()
+        rows = []
+        for key in _SWEEP_KEYS:
+            what = self.WHAT.get(key)
+            if what is None:
+                logger.warning(f"the [sweep] key '{key}' has no description in "
+                               f"docs/_ext/polind_docs.py", location=(source, line))
+                what = ""
+            rows.append([f"``{key}``", what])
+        return _parse(self, list_table(["key", "what it is"], rows, widths=[20, 80]))
+
+
+class SweepMetrics(SphinxDirective):
+    """The metrics a sweep can keep (polind.sweep.METRICS)."""
+
+    def run(self):
+        from polind.sweep import METRICS, NEEDS
+
+        rows = []
+        for name, metric in METRICS.items():
+            needs = NEEDS.get(metric.needs, "") or "—"
+            rows.append([f"``{name}``", metric.unit or "—", needs,
+                         metric.definition.replace("*", r"\*")])
+        return _parse(self, list_table(["metric", "unit", "needs", "definition"], rows,
+                                       widths=[18, 8, 20, 54]))
+
+
+class Columns(SphinxDirective):
+    """The columns of a motion file or a measured-data file."""
+
+    required_arguments = 1
+    WHAT = {"t": ("s", "Sample times, strictly increasing and finite."),
+            "x": ("m", "Position (displacement) at each sample; the path is linear between "
+                       "samples."),
+            "v": ("m/s", "Velocity at each sample; the position is its trapezoidal "
+                         "integral."),
+            "F": ("N", "Measured friction force, positive when it resists positive motion."),
+            "normal_load": ("N", "Normal load at each sample (models that use a load; "
+                                 "ignored, with a warning, by the others).")}
+
+    def run(self):
+        from polind import io
+
+        spec = {"motion": io.MOTION_COLUMNS, "data": io.MEASUREMENT_COLUMNS}[self.arguments[0]]
+        rows = []
+        for group, text in (("require", "required"), ("one_of", "exactly one of x and v"),
+                            ("optional", "optional")):
+            for column in spec[group]:
+                unit, what = self.WHAT[column]
+                rows.append([f"``{column}``", unit, text, what])
+        return _parse(self, list_table(["column", "unit", "", "what it is"], rows,
+                                       widths=[14, 8, 22, 56]))
+
+
+class DefaultBounds(SphinxDirective):
+    """The default bounds of a free parameter, by its unit."""
+
+    def run(self):
+        from polind.identification import DEFAULT_RANGES, UNSCALED_RANGE
+
+        rows = []
+        for unit, rule in DEFAULT_RANGES.items():
+            rows.append([unit, f"[{rule.low:g}, {rule.high:g}] × scale",
+                         rule.words.replace("|", r"\|")])
+        rows.append(["any other", f"[{UNSCALED_RANGE[0]:g}, {UNSCALED_RANGE[1]:g}] × the "
+                                  f"start", "a decade either side of the starting value"])
+        return _parse(self, list_table(["unit", "default bounds", "scale"], rows,
+                                       widths=[12, 30, 58]))
+
+
+class ModelTypes(SphinxDirective):
+    """The registered model types and their classes."""
+
+    def run(self):
+        from polind.models import MODEL_TYPES
+
+        rows = []
+        for model_type in _ordered_types():
+            cls = MODEL_TYPES[model_type]
+            guide = MODEL_GUIDE.get(model_type)
+            rows.append([f"``{model_type}``", MODEL_NAMES.get(model_type, cls.__name__),
+                         f":ref:`keys <formats-model-{model_type}>`",
+                         f":ref:`{guide}`" if guide else "—"])
+        return _parse(self, list_table(["``type``", "model", "keys", "equations"], rows))
+
+
+class DefaultModel(SphinxDirective):
+    """The default Pol-Ind model file, as TOML (from ``default_table()``)."""
+
+    def run(self):
+        import tomli_w
+
+        from polind.models.pol_ind import default_table
+
+        text = tomli_w.dumps({"model": default_table()})
+        block = nodes.literal_block(text, text)
+        block["language"] = "toml"
+        return [block]
+
+
+# --- API pages -------------------------------------------------------------------------------
+
+# Headings of the top-level API page; a name of ``polind.__all__`` that is in none of them
+# goes under "More" (so a new public name is documented as soon as it is exported).
+API_GROUPS = (
+    ("Models and files", ("load_model", "model_from_dict", "save_model", "MODEL_TYPES",
+                          "FrictionModel", "register_model", "Param", "Table", "State")),
+    ("Prescribed motion", ("simulate", "SimulationResult")),
+    ("Your own loop", ("Stepper", "Body", "StepKernel", "StepFunctions")),
+    ("One-degree-of-freedom systems", ("System", "SystemResult", "load_system",
+                                       "simulate_system")),
+    ("Identification", ("identify", "FitResult", "identify_maxwell_slip", "identify_gms",
+                        "identify_stribeck", "compare")),
+    ("Sweeps", ("sweep",)),
+    ("Errors", ("InputError",)),
+)
+
+SUBPACKAGES = (
+    ("polind.contact", "Contact mechanics of the Pol-Ind model"),
+    ("polind.topography", "Measured surfaces"),
+    ("polind.control", "python-control systems"),
+)
+
+# Modules documented whole (every public function, class and documented constant), for
+# the functions the user guide and the docstrings name in them.
+MODULES = (
+    ("Files, systems and resources", ("polind.io", "polind.dynamics", "polind.resources",
+                                      "polind.validation")),
+    ("Models and their parameters", ("polind.models", "polind.models.params",
+                                     "polind.models.pol_ind")),
+    ("Identification and comparison", ("polind.identification", "polind.comparison")),
+    ("The demo", ("polind.phenomena", "polind.demo", "polind.report")),
+    ("Contact mechanics, module by module", ("polind.contact.materials",
+                                             "polind.contact.asperity",
+                                             "polind.contact.greenwood",
+                                             "polind.contact.surface",
+                                             "polind.contact.separation",
+                                             "polind.contact.elements")),
+    ("Measured surfaces, module by module", ("polind.topography.heightmap",
+                                             "polind.topography.summits",
+                                             "polind.topography.analysis",
+                                             "polind.topography.figure")),
+    ("Compiled kernels", ("polind.kernels.contract", "polind.kernels.mount",
+                          "polind.kernels.series", "polind.kernels.dynamics",
+                          "polind.kernels.elements", "polind.kernels.separation",
+                          "polind.kernels.special", "polind.kernels.fastexp")),
+)
+
+
+def _autosummary(names, module):
+    lines = [f".. currentmodule:: {module}", "", ".. autosummary::", "   :toctree: generated/",
+             "   :nosignatures:", ""]
+    lines += [f"   {name}" for name in names]
+    return lines + [""]
+
+
+def write_api_pages(docs: Path) -> None:
+    """Write ``api/polind.rst`` and one page per public subpackage (generated, not in git)."""
+    import polind
+
+    api = docs / "api"
+    api.mkdir(exist_ok=True)
+    public = list(polind.__all__)
+    lines = [".. This page is generated by docs/_ext/polind_docs.py from polind.__all__.", "",
+             "``polind``", "==========", "", ".. automodule:: polind", "   :no-members:", ""]
+    placed = set()
+    for heading, names in API_GROUPS:
+        present = [name for name in names if name in public]
+        if not present:
+            continue
+        placed.update(present)
+        lines += [heading, "-" * len(heading), ""] + _autosummary(present, "polind")
+    rest = [name for name in public if name not in placed]
+    if rest:
+        lines += ["More", "----", ""] + _autosummary(rest, "polind")
+    _write_if_changed(api / "polind.rst", lines)
+    for module_name, title in SUBPACKAGES:
+        module = importlib.import_module(module_name)
+        heading = f"``{module_name}``: {title}"
+        page = [f".. This page is generated by docs/_ext/polind_docs.py from "
+                f"{module_name}.__all__.", "", heading, "=" * len(heading), "",
+                f".. automodule:: {module_name}", "   :no-members:", ""]
+        page += _autosummary(list(module.__all__), module_name)
+        _write_if_changed(api / (module_name.replace(".", "_") + ".rst"), page)
+    index = [".. This page is generated by docs/_ext/polind_docs.py (MODULES).", "",
+             ".. _api-modules:", "", "More modules", "============", "",
+             "Modules documented whole, for the functions, classes and constants that the "
+             "user guide and the docstrings name in them.", ""]
+    for heading, names in MODULES:
+        index += [heading, "-" * len(heading), "", ".. toctree::", "   :maxdepth: 1", ""]
+        index += [f"   {name.replace('.', '_')}" for name in names] + [""]
+        for name in names:
+            module = importlib.import_module(name)
+            title = f"``{name}``"
+            page = [".. This page is generated by docs/_ext/polind_docs.py (MODULES).", "",
+                    title, "=" * len(title), "", f".. automodule:: {name}", "   :members:",
+                    "   :ignore-module-all:", ""]
+            page += _imported_public(module)
+            _write_if_changed(api / (name.replace(".", "_") + ".rst"), page + [""])
+    _write_if_changed(api / "modules.rst", index)
+
+
+def _imported_public(module) -> list[str]:
+    """Directives for the names of a module's ``__all__`` that it imports from elsewhere.
+
+    ``automodule`` with ``:ignore-module-all:`` documents what the module defines
+    (functions, classes, constants with a ``#:`` comment); a name it re-exports is
+    documented here too, under the module's name, so a reference to it resolves.
+    """
+    import inspect
+
+    import polind
+
+    lines = []
+    for name in getattr(module, "__all__", ()):
+        value = getattr(module, name, None)
+        if value is None or getattr(value, "__module__", module.__name__) == module.__name__:
+            continue
+        if name in polind.__all__ and getattr(polind, name) is value:
+            continue          # documented as polind.<name>
+        if inspect.isclass(value):
+            lines += [f".. autoclass:: {module.__name__}.{name}", "   :members:", ""]
+        elif callable(value):
+            lines += [f".. autofunction:: {module.__name__}.{name}", ""]
+    return lines
+
+
+def _write_if_changed(path: Path, lines) -> None:
+    text = "\n".join(lines) + "\n"
+    if not path.exists() or path.read_text(encoding="utf-8") != text:
+        path.write_text(text, encoding="utf-8")
+
+
+# --- the gallery --------------------------------------------------------------------------
+
+class GalleryArgv:
+    """The command line of an example: its output directory, made empty first.
+
+    ``examples/tribometer_fit.py`` takes ``--out DIR``; the others take the
+    directory as their first argument.
+    """
+
+    def __init__(self, root: Path):
+        self.root = Path(root)
+
+    def directory(self, src_file) -> Path:
+        return self.root / Path(src_file).stem
+
+    def __call__(self, gallery_conf, script_vars):
+        out = self.directory(script_vars["src_file"])
+        shutil.rmtree(out, ignore_errors=True)
+        out.mkdir(parents=True)
+        if Path(script_vars["src_file"]).stem == "tribometer_fit":
+            return ["--out", str(out)]
+        return [str(out)]
+
+    def __repr__(self):
+        return "GalleryArgv()"
+
+
+class PngScraper:
+    """Show the PNG files an example wrote to its output directory, in the order written."""
+
+    def __init__(self, argv: GalleryArgv):
+        self.argv = argv
+        self.shown = {}
+
+    def __call__(self, block, block_vars, gallery_conf, **kwargs):
+        from sphinx_gallery.scrapers import figure_rst
+
+        src_file = block_vars["src_file"]
+        out = self.argv.directory(src_file)
+        shown = self.shown.setdefault(str(src_file), set())
+        new = sorted((p for p in out.glob("*.png") if p.name not in shown),
+                     key=lambda p: p.stat().st_mtime)
+        paths = []
+        for png, image_path in zip(new, block_vars["image_path_iterator"]):
+            shutil.copyfile(png, image_path)
+            shown.add(png.name)
+            paths.append(image_path)
+        return figure_rst(paths, gallery_conf["src_dir"])
+
+    def __repr__(self):
+        return "PngScraper()"
+
+
+# --- MathJax from the build ------------------------------------------------------------------
+
+def _mathjax_source() -> Path | None:
+    try:
+        distribution = importlib.metadata.distribution("sphinx-mathjax-offline")
+    except importlib.metadata.PackageNotFoundError:
+        return None
+    path = Path(distribution.locate_file("sphinx-mathjax-offline/static/mathjax"))
+    return path if path.is_dir() else None
+
+
+def copy_mathjax(app, exception):
+    if exception is not None or app.builder.format != "html":
+        return
+    source = _mathjax_source()
+    target = Path(app.outdir) / "_static" / "mathjax"
+    if source is None:
+        logger.warning("sphinx-mathjax-offline is not installed: equations need the network "
+                       "(pip install -e '.[docs]')")
+        return
+    if not (target / "tex-chtml.js").exists():
+        shutil.copytree(source, target, dirs_exist_ok=True)
+
+
+def setup(app):
+    app.add_directive("polind-model-keys", ModelKeys)
+    app.add_directive("polind-system-keys", SystemKeys)
+    app.add_directive("polind-sweep-keys", SweepKeys)
+    app.add_directive("polind-sweep-metrics", SweepMetrics)
+    app.add_directive("polind-columns", Columns)
+    app.add_directive("polind-default-bounds", DefaultBounds)
+    app.add_directive("polind-model-types", ModelTypes)
+    app.add_directive("polind-default-model", DefaultModel)
+    app.connect("build-finished", copy_mathjax)
+    return {"version": "1", "parallel_read_safe": True, "parallel_write_safe": True}
