@@ -197,3 +197,39 @@ def test_masing_formula_of_models_md_4_holds_only_down_to_minus_x_r():
     beyond = x[100:] < -x_r
     np.testing.assert_allclose(res.force[100:][beyond],
                                oracles.virgin_curve(x[100:][beyond], K, W), rtol=1e-9)
+
+
+# --- simulate's two-samples-a-pass loop (kernels.elements.maxwell_slip_motion) --------------
+
+@pytest.mark.parametrize("samples", [3, 4, 258, 259, 2601, 2602])
+def test_any_sample_count_matches_the_oracle(samples):
+    # Blocks of 256, pairs of samples, and an odd sample left at the end of a block.
+    t, x = random_walk(samples, 4e-6, seed=samples, dwell=0.1)
+    model = ms(sigma2=0.3)
+    res = run(model, t, x=x)
+    ref = oracles.simulate(model, t, x=x)
+    assert_close(res.force, ref.force, REL, SUM_W, f"{samples} samples")
+    assert_close(element_forces(res.final_state), ref.states["element_force"][-1],
+                 REL, float(W.max()), "final element forces")
+
+
+@pytest.mark.parametrize("where", [1, 2, 3, 300, 2600])
+@pytest.mark.parametrize("what", ["x nan", "t inf", "t repeated"])
+def test_a_bad_sample_in_any_block_is_named(where, what):
+    import math
+
+    import polind
+
+    t, x = random_walk(2601, 4e-6, seed=1)
+    t, x = t.copy(), x.copy()
+    if what == "x nan":
+        x[where] = math.nan
+        message = f"'x' samples must be finite. Got nan at index {where}"
+    elif what == "t inf":
+        t[where] = math.inf
+        message = f"'t' samples must be finite. Got inf at index {where}"
+    else:
+        t[where] = t[where - 1]
+        message = fr"'t' samples must be strictly increasing. Got t\[{where}\]"
+    with pytest.raises(polind.InputError, match=message):
+        polind.simulate(polind.model_from_dict({"model": ms()}), t, x=x)

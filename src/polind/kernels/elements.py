@@ -34,7 +34,7 @@ import math
 import numpy as np
 
 from polind.kernels import jit
-from polind.kernels.contract import run_motion, run_steps
+from polind.kernels.contract import VALID, run_motion, run_steps
 from polind.kernels.dynamics import advance_body_template, integrate_system_template
 from polind.kernels.fastexp import decay_exp
 from polind.kernels.stribeck import sign, stribeck_curve
@@ -223,14 +223,96 @@ def maxwell_slip_path(scalars, table, state, step, displacement, step_velocity,
               step_velocity, sample_velocity, loads, constant_load, lo, hi, first, out_force)
 
 
+#: Samples a Maxwell-slip motion block cuts at once (:func:`maxwell_slip_motion`).
+MOTION_BLOCK = 256
+
+
 @jit
 def maxwell_slip_motion(scalars, table, state, source_t, source_motion, t, motion, by_velocity,
                         start_position, start_velocity, continuing, position, velocity, loads,
                         constant_load, lo, hi, first, out_force):
-    """:func:`polind.kernels.contract.run_motion` specialised to Maxwell-slip."""
-    return run_motion(maxwell_slip_step, maxwell_slip_force, scalars, table, state, source_t, source_motion, t,
-                      motion, by_velocity, start_position, start_velocity, continuing,
-                      position, velocity, loads, constant_load, lo, hi, first, out_force)
+    """:func:`polind.kernels.contract.run_motion` specialised to Maxwell-slip, two samples a pass.
+
+    Along positions, each block of :data:`MOTION_BLOCK` samples is first
+    copied, checked and cut into steps in a pass with no dependence between
+    samples; the elements are then advanced two samples per pass over them
+    (``F_i <- clip(F_i + k_i dx, -W_i, W_i)`` twice, each sample's sum kept),
+    so each element's stiffness, capacity and force are loaded once for two
+    steps.  The forces are those of one sample at a time, summed in another
+    order (within a few ulp).  Velocities, a block with a bad sample and an
+    odd last sample run through the one-pass template, which also finds and
+    reports a bad sample.
+    """
+    if by_velocity or hi - lo < 3:
+        return run_motion(maxwell_slip_step, maxwell_slip_force, scalars, table, state,
+                          source_t, source_motion, t, motion, by_velocity, start_position,
+                          start_velocity, continuing, position, velocity, loads, constant_load,
+                          lo, hi, first, out_force)
+    if first:       # samples lo and lo + 1 as the template does them (the start's velocity)
+        code, index = run_motion(maxwell_slip_step, maxwell_slip_force, scalars, table, state,
+                                 source_t, source_motion, t, motion, by_velocity,
+                                 start_position, start_velocity, continuing, position,
+                                 velocity, loads, constant_load, lo, lo + 2, True, out_force)
+        if code != VALID:
+            return code, index
+        lo = lo + 1
+    stiffness = table[ELEMENT_STIFFNESS]
+    capacity = table[ELEMENT_CAPACITY]
+    viscous = scalars[VISCOUS]
+    n = stiffness.shape[0]
+    element_force = state[:n]
+    displacement = np.empty(MOTION_BLOCK)
+    a = lo + 1
+    while a < hi:
+        b = min(a + MOTION_BLOCK, hi)
+        m = b - a
+        t_in = source_t[a - 1:b]
+        x_in = source_motion[a - 1:b]
+        t_out = t[a:b]
+        x_out = motion[a:b]
+        w_out = velocity[a:b]
+        f_out = out_force[a:b]
+        bad = 0
+        for i in range(m):
+            t0 = t_in[i]
+            t1 = t_in[i + 1]
+            t_out[i] = t1
+            x_out[i] = x_in[i + 1]
+            dx = x_in[i + 1] - x_in[i]
+            w = dx / (t1 - t0)
+            w_out[i] = w
+            displacement[i] = dx
+            # Times finite and increasing (t0 was checked with its own sample),
+            # the step velocity finite (NaN fails every comparison).
+            ok = (t1 > t0) & (t1 < math.inf) & (abs(w) < math.inf)
+            bad += 0 if ok else 1
+        if bad != 0:            # the template finds the bad sample and reports it
+            return run_motion(maxwell_slip_step, maxwell_slip_force, scalars, table, state,
+                              source_t, source_motion, t, motion, by_velocity, start_position,
+                              start_velocity, continuing, position, velocity, loads,
+                              constant_load, a - 1, hi, False, out_force)
+        i = 0
+        while i + 1 < m:
+            first_step = displacement[i]
+            second_step = displacement[i + 1]
+            first_total = 0.0
+            second_total = 0.0
+            for j in range(n):
+                limit = capacity[j]
+                k = stiffness[j]
+                force = min(max(element_force[j] + k * first_step, -limit), limit)
+                first_total += force
+                force = min(max(force + k * second_step, -limit), limit)
+                second_total += force
+                element_force[j] = force
+            f_out[i] = first_total + viscous * w_out[i]
+            f_out[i + 1] = second_total + viscous * w_out[i + 1]
+            i += 2
+        if i < m:
+            f_out[i] = maxwell_slip_elements(element_force, stiffness, capacity,
+                                             displacement[i]) + viscous * w_out[i]
+        a = b
+    return VALID, -1
 
 
 @jit(inline="always")
