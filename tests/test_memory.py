@@ -198,8 +198,8 @@ def test_demo_refuses_a_run_beyond_the_limit_naming_its_experiment(tmp_path, cap
     status, _, err = run(capsys, "--max-memory", "5M", "demo", "--model", model,
                          "--out", out_dir)
     assert status == 2 and err.count("\n") == 1, err
-    assert err.startswith("polind: error: The frictional_lag experiment on Pol-Ind: A motion "
-                          "of ")
+    assert err.startswith("polind: error: The frictional_lag experiment on Pol-Ind: The "
+                          "frictional-lag run at ")
     assert "the limit is 5 MB (set by --max-memory)" in err
     assert not (out_dir / "report.html").exists()
 
@@ -219,3 +219,21 @@ def test_sizing_a_pipe_does_not_consume_it(tmp_path, capsys):
     writer.join(timeout=60)
     assert status == 0, err
     assert len((tmp_path / "out.csv").read_text().splitlines()) == 4
+
+
+def test_frictional_lag_checks_memory_before_making_its_samples():
+    from polind import phenomena
+
+    model = polind.model_from_dict({"model": {"type": "lugre", "bristle_stiffness": 1e5,
+                                              "bristle_damping": 316.2,
+                                              "viscous_coefficient": 0.4, "coulomb_force": 1.0,
+                                              "static_force": 1.5, "stribeck_velocity": 1e-3}})
+    previous = resources._LIMIT
+    resources.set_memory_limit(1e6)
+    try:
+        with pytest.raises(polind.InputError, match=r"The frictional-lag run at 1 Hz "
+                                                    r"\(.* samples\) needs about"):
+            # 1e5 steps per lag time: far more samples than 1 MB holds.
+            phenomena.frictional_lag(model, frequencies=[1.0], steps_per_lag=100_000)
+    finally:
+        resources.set_memory_limit(previous)

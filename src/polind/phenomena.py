@@ -50,7 +50,8 @@ import numpy as np
 from polind.errors import InputError
 from polind.io import plain_data
 from polind.models.static import stribeck_curve
-from polind.simulate import simulate
+from polind.resources import check_memory
+from polind.simulate import BYTES_PER_SAMPLE, simulate
 
 __all__ = [
     "PHENOMENA",
@@ -555,8 +556,13 @@ def frictional_lag(model, *, frequencies=None, mean_velocity=None, velocity_ampl
         # against its presliding range (a lightly loaded Pol-Ind contact) does
         # not ask for billions of samples.
         warm_up = math.ceil(50.0 * levels.presliding_range / (v0 * period))
-        fine = np.arange(periods * per_period + 1) * (period / per_period)
         coarse_periods = max(0, warm_up - (periods - 1))
+        # Checked before t and v are made (16 bytes a sample here, simulate's own after).
+        samples = periods * per_period + 1 + (min(coarse_periods * 400, _WARM_UP_STEPS)
+                                              if coarse_periods else 0)
+        check_memory(samples * (16 + BYTES_PER_SAMPLE),
+                     f"The frictional-lag run at {frequency:.6g} Hz ({samples:.3g} samples)")
+        fine = np.arange(periods * per_period + 1) * (period / per_period)
         if coarse_periods:
             coarse_steps = min(coarse_periods * 400, _WARM_UP_STEPS)
             coarse = np.linspace(0.0, coarse_periods * period, coarse_steps + 1)
