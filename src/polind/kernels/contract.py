@@ -182,6 +182,29 @@ def run_motion(step, force, scalars, table, state, source_t, source_motion, t, m
     return VALID, -1
 
 
+@jit(inline="always")
+def cut_sample(t_in, x_in, t_out, x_out, i):
+    """Copy and cut sample ``i + 1`` of a block of positions: ``(h, dx, w, ok)``.
+
+    The per-sample part of a blocked motion kernel's first pass (the
+    arithmetic of :func:`motion_step`): ``t_in``/``x_in`` are the sources
+    from the sample before the block, ``t_out``/``x_out`` the copies from
+    the block's first sample.  ``ok`` is false for a time that is not finite
+    or not after its predecessor (checked with its own sample) or a step
+    velocity that is not finite; NaN fails every comparison.  No branch, so
+    a loop over the block that calls it vectorises; the caller counts the
+    bad samples and lets :func:`run_motion` find and report the first.
+    """
+    t0 = t_in[i]
+    t1 = t_in[i + 1]
+    t_out[i] = t1
+    x_out[i] = x_in[i + 1]
+    h = t1 - t0
+    dx = x_in[i + 1] - x_in[i]
+    w = dx / h
+    return h, dx, w, (t1 > t0) & (t1 < math.inf) & (abs(w) < math.inf)
+
+
 @jit(cache=False)
 def run_motion_any(step, force, scalars, table, state, source_t, source_motion, t, motion,
                    by_velocity, start_position, start_velocity, continuing, position, velocity,

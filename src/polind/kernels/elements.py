@@ -34,7 +34,7 @@ import math
 import numpy as np
 
 from polind.kernels import jit
-from polind.kernels.contract import VALID, run_motion, run_steps
+from polind.kernels.contract import VALID, cut_sample, run_motion, run_steps
 from polind.kernels.dynamics import advance_body_template, integrate_system_template
 from polind.kernels.fastexp import decay_exp
 from polind.kernels.stribeck import sign, stribeck_curve
@@ -266,6 +266,8 @@ def maxwell_slip_motion(scalars, table, state, source_t, source_motion, t, motio
     while a < hi:
         b = min(a + MOTION_BLOCK, hi)
         m = b - a
+        # Views of the block, indexed from 0: the compiler sees non-negative
+        # indices and vectorises the loop.
         t_in = source_t[a - 1:b]
         x_in = source_motion[a - 1:b]
         t_out = t[a:b]
@@ -274,17 +276,9 @@ def maxwell_slip_motion(scalars, table, state, source_t, source_motion, t, motio
         f_out = out_force[a:b]
         bad = 0
         for i in range(m):
-            t0 = t_in[i]
-            t1 = t_in[i + 1]
-            t_out[i] = t1
-            x_out[i] = x_in[i + 1]
-            dx = x_in[i + 1] - x_in[i]
-            w = dx / (t1 - t0)
+            h, dx, w, ok = cut_sample(t_in, x_in, t_out, x_out, i)
             w_out[i] = w
             displacement[i] = dx
-            # Times finite and increasing (t0 was checked with its own sample),
-            # the step velocity finite (NaN fails every comparison).
-            ok = (t1 > t0) & (t1 < math.inf) & (abs(w) < math.inf)
             bad += 0 if ok else 1
         if bad != 0:            # the template finds the bad sample and reports it
             return run_motion(maxwell_slip_step, maxwell_slip_force, scalars, table, state,

@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 from polind.kernels import jit
-from polind.kernels.contract import VALID, run_motion, run_steps
+from polind.kernels.contract import VALID, cut_sample, run_motion, run_steps
 from polind.kernels.dynamics import advance_body_template, integrate_system_template
 from polind.kernels.elements import (element_sum, elastic_stiffness, maxwell_slip_elements,
                                      maxwell_slip_trial)
@@ -214,7 +214,7 @@ def lugre_motion(scalars, table, state, source_t, source_motion, t, motion, by_v
         b = min(a + LUGRE_BLOCK, hi)
         m = b - a
         # Views of the block, indexed from 0: the compiler sees non-negative
-        # indices and vectorises the loops below.
+        # indices and vectorises the loop.
         t_in = source_t[a - 1:b]
         x_in = source_motion[a - 1:b]
         t_out = t[a:b]
@@ -223,16 +223,8 @@ def lugre_motion(scalars, table, state, source_t, source_motion, t, motion, by_v
         f_out = out_force[a:b]
         bad = 0
         for i in range(m):
-            t0 = t_in[i]
-            t1 = t_in[i + 1]
-            t_out[i] = t1
-            x_out[i] = x_in[i + 1]
-            h = t1 - t0
-            w = (x_in[i + 1] - x_in[i]) / h
+            h, dx, w, ok = cut_sample(t_in, x_in, t_out, x_out, i)
             w_out[i] = w
-            # Times finite and increasing (t0 was checked with its own sample),
-            # the step velocity finite (NaN fails every comparison).
-            ok = (t1 > t0) & (t1 < math.inf) & (abs(w) < math.inf)
             bad += 0 if ok else 1
             ratio = abs(w) * inverse_vs
             ratio = ratio * ratio if squared else ratio
