@@ -89,7 +89,7 @@ def _check_reachable(surface, load: float, where: str = "") -> None:
     if surface.kind == "direct" and load > largest:
         raise InputError(
             f"The 'normal_load' of pol-ind is more than the measured surface "
-            f"'{getattr(surface, 'source', 'map')}' can carry: every one of its "
+            f"'{surface.source}' can carry: every one of its "
             f"{surface.asperity_count:.6g} summits would be in contact and the flat would reach "
             f"the valleys between them. Got {load!r} N{where}; expected at most {largest:.6g} N "
             f"(a larger 'surface.nominal_area' spreads the load over more summits)."

@@ -247,6 +247,11 @@ class DirectSurface:
         #: Lowest separation the surface may be pressed to [m] (``-inf``: any
         #: load is carried; a measured map sets its lowest summit).
         self.lowest_separation = -math.inf
+        #: The file of a measured map (:meth:`from_topography`), else None.
+        self.source = None
+        #: The Greenwood–Williamson surface of a measured map (``[model.surface]``
+        #: keys, ``nominal_area`` the model's ``A0``), else None.
+        self.greenwood_williamson = None
 
     @classmethod
     def from_seed(cls, asperity_density, nominal_area, height_std, asperity_radius, E_star, G_star, seed=0):
@@ -338,8 +343,6 @@ class DirectSurface:
                       counts=np.full(heights.size, scale), radii=measured.summit_radii)
         surface.lowest_separation = float(surface.heights[0])
         surface.source = measured.source
-        #: The Greenwood–Williamson surface of the map (``[model.surface]`` keys,
-        #: ``nominal_area`` the model's ``A0``).
         surface.greenwood_williamson = {
             **{key: float(value) for key, value in measured.greenwood_williamson().items()},
             "nominal_area": area if nominal_area is None else float(nominal_area)}
@@ -355,21 +358,17 @@ class DirectSurface:
         """Whether the summits have radii of their own (weights differ from counts)."""
         return self.weights is not self.counts
 
-    def _moments(self, d) -> np.ndarray:
-        """Tail sums ``(sum c, sum w sqrt(delta), sum c R_i / R delta, sum w delta^(3/2))``.
+    def _moments(self, d, weights) -> np.ndarray:
+        """Tail sums of ``weights * delta^p``, ``p = 0, 1/2, 1, 3/2``; shape ``d.shape + (4,)``.
 
-        Shape ``d.shape + (4,)``.
+        The load and its slope sum with the Hertz weights, the count with the
+        counts, the area with the area weights (one array when the summits
+        share one radius).
         """
         separations = np.asarray(d, dtype=float)
         flat = np.ascontiguousarray(separations.ravel())
         out = np.empty((flat.size, 4))
-        _tail_moments_many(self.heights, self.weights, flat, out)
-        if self.has_radii:
-            other = np.empty((flat.size, 4))
-            _tail_moments_many(self.heights, self.counts, flat, other)
-            out[:, 0] = other[:, 0]
-            _tail_moments_many(self.heights, self._area_weights, flat, other)
-            out[:, 2] = other[:, 2]
+        _tail_moments_many(self.heights, weights, flat, out)
         return out.reshape(separations.shape + (4,))
 
     def _hertz_scale(self) -> float:
@@ -378,19 +377,19 @@ class DirectSurface:
 
     def normal_load(self, d):
         """Total normal load ``N(d)`` [N] at separation ``d`` [m] (vectorised)."""
-        return self._hertz_scale() * self._moments(d)[..., 3]
+        return self._hertz_scale() * self._moments(d, self.weights)[..., 3]
 
     def normal_load_slope(self, d):
         """``dN/dd`` [N/m] at separation ``d`` [m] (negative; vectorised)."""
-        return -1.5 * self._hertz_scale() * self._moments(d)[..., 1]
+        return -1.5 * self._hertz_scale() * self._moments(d, self.weights)[..., 1]
 
     def contacts(self, d):
         """Number of asperities in contact ``n(d)`` (vectorised)."""
-        return self._moments(d)[..., 0]
+        return self._moments(d, self.counts)[..., 0]
 
     def real_area(self, d):
         """Real contact area ``A(d)`` [m^2] (vectorised)."""
-        return math.pi * self.asperity_radius * self._moments(d)[..., 2]
+        return math.pi * self.asperity_radius * self._moments(d, self._area_weights)[..., 2]
 
     def load_and_slope(self, d: float) -> tuple[float, float]:
         """``(N(d), dN/dd)`` for one separation ``d`` [m] (one Python call)."""

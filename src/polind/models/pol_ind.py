@@ -246,23 +246,20 @@ class PolInd(FrictionModel):
         if not 1 <= count <= MAX_ELEMENTS:
             raise InputError(f"The 'discretisation.elements' parameter of pol-ind must be in the "
                              f"range [1, {MAX_ELEMENTS}]. Got {count} instead.")
-        if params["discretisation"].get("heights_file") and \
-                params["discretisation"]["summation"] != "direct":
+        if mapped:                  # the map replaced the sampled keys (refused above)
+            return
+        heights_file = discretisation.get("heights_file")
+        if heights_file and discretisation["summation"] != "direct":
             raise InputError("The 'discretisation.heights_file' parameter of pol-ind needs "
                              "summation = \"direct\". Got \"statistical\" instead.")
-        if mapped:
-            pass
-        elif params["discretisation"].get("heights_file"):
-            for key in _SAMPLED_SURFACE_KEYS:
-                if key in surface:
-                    raise InputError(f"The 'surface.{key}' parameter of pol-ind is not used with "
-                                     f"a 'discretisation.heights_file': the file gives the "
-                                     f"summits themselves. Remove it.")
-        else:
-            for key in _SAMPLED_SURFACE_KEYS:
-                if key not in surface:
-                    raise InputError(f"Missing key 'surface.{key}' for a pol-ind model (needed "
-                                     f"without a 'discretisation.heights_file').")
+        for key in _SAMPLED_SURFACE_KEYS:
+            if heights_file and key in surface:
+                raise InputError(f"The 'surface.{key}' parameter of pol-ind is not used with "
+                                 f"a 'discretisation.heights_file': the file gives the "
+                                 f"summits themselves. Remove it.")
+            if not heights_file and key not in surface:
+                raise InputError(f"Missing key 'surface.{key}' for a pol-ind model (needed "
+                                 f"without a 'discretisation.heights_file').")
 
     # --- contact mechanics (computed on first use, then cached) -----------------------
 
