@@ -29,24 +29,8 @@ from pathlib import Path
 
 import numpy as np
 
-PIXEL = 0.5e-6
-
-
-def make_map(size: int, missing: float, seed: int = 0) -> np.ndarray:
-    """A tilted Gaussian random surface (Gaussian autocorrelation, 8 pixels) [m]."""
-    rng = np.random.default_rng(seed)
-    q = 2.0 * np.pi * np.fft.fftfreq(size)
-    q_half = 2.0 * np.pi * np.fft.rfftfreq(size)
-    filter_ = np.exp(-(q[:, None] ** 2 + q_half[None, :] ** 2) * 8.0**2 / 8.0).astype(np.float32)
-    spectrum = np.fft.rfft2(rng.standard_normal((size, size), dtype=np.float32))
-    spectrum *= filter_
-    heights = np.fft.irfft2(spectrum, s=(size, size)).astype(np.float64)
-    heights *= 0.5e-6 / heights.std()
-    index = np.arange(size, dtype=np.float64) * PIXEL
-    heights += 1e-3 * index[:, None] - 2e-3 * index[None, :]
-    if missing > 0:
-        heights[rng.random((size, size)) < missing] = np.nan
-    return heights
+from polind.bench import MAP_PIXEL as PIXEL
+from polind.bench import random_height_map as make_map
 
 
 def best_of(function, repeat=3):

@@ -107,9 +107,7 @@ def main(argv=None):
     loops = [phenomena.presliding_memory(model, amplitude=amplitude)
              for model in (direct, statistical)]
 
-    with open(os.path.join(args.out, "measured_pol_ind.toml"), "wb") as handle:
-        import tomli_w
-        handle.write(tomli_w.dumps(direct.to_dict()).encode())
+    polind.save_model(direct, os.path.join(args.out, "measured_pol_ind.toml"))
     figure_path = os.path.join(args.out, "measured_surface.png")
     draw(figure_path, os.path.basename(args.map), args.load, stribeck, loops)
     print(f"\nwrote {figure_path} and {os.path.join(args.out, 'measured_pol_ind.toml')}")

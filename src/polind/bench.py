@@ -707,8 +707,17 @@ class TopographyRow:
     elements: int            # elements of that table (summits in contact)
 
 
-def _random_map(size, seed=0):
-    """A tilted Gaussian random surface (Gaussian autocorrelation, 8 pixels; rms 0.5 µm) [m]."""
+#: Pixel size of the benchmark's height maps [m].
+MAP_PIXEL = 0.5e-6
+
+
+def random_height_map(size, missing=0.0, seed=0):
+    """A tilted Gaussian random surface of ``size`` x ``size`` points [m].
+
+    Gaussian autocorrelation of 8 pixels, rms 0.5 µm, tilt 1e-3 and -2e-3 at
+    a pixel of :data:`MAP_PIXEL`; a fraction ``missing`` of the points
+    blanked (NaN) at random.  NumPy alone, in single precision where it can.
+    """
     rng = np.random.default_rng(seed)
     q = 2.0 * np.pi * np.fft.fftfreq(size)
     q_half = 2.0 * np.pi * np.fft.rfftfreq(size)
@@ -716,8 +725,11 @@ def _random_map(size, seed=0):
     spectrum = np.fft.rfft2(rng.standard_normal((size, size), dtype=np.float32)) * filter_
     heights = np.fft.irfft2(spectrum, s=(size, size)).astype(np.float64)
     heights *= 0.5e-6 / heights.std()
-    index = np.arange(size, dtype=np.float64) * 0.5e-6
-    return heights + 1e-3 * index[:, None] - 2e-3 * index[None, :]
+    index = np.arange(size, dtype=np.float64) * MAP_PIXEL
+    heights += 1e-3 * index[:, None] - 2e-3 * index[None, :]
+    if missing > 0:
+        heights[rng.random((size, size)) < missing] = np.nan
+    return heights
 
 
 def run_topography(size=4096, normal_load=1.0):
@@ -738,13 +750,13 @@ def run_topography(size=4096, normal_load=1.0):
 
     with tempfile.TemporaryDirectory() as folder:
         path = os.path.join(folder, "map.npy")
-        np.save(path, _random_map(size))
+        np.save(path, random_height_map(size))
         start = time.perf_counter()
-        measured = load_measured_surface(path, pixel_size=(0.5e-6, 0.5e-6))
+        measured = load_measured_surface(path, pixel_size=(MAP_PIXEL, MAP_PIXEL))
         middle = time.perf_counter()
         table = default_table()
         table.update(normal_load=normal_load, discretisation={},
-                     surface={"topography": path, "pixel_size": [0.5e-6, 0.5e-6]})
+                     surface={"topography": path, "pixel_size": [MAP_PIXEL, MAP_PIXEL]})
         elements = len(model_from_dict({"model": table}).element_table())
         end = time.perf_counter()
     return TopographyRow(size, measured.summits, middle - start, end - middle, elements)
