@@ -183,6 +183,27 @@ def random_walk(n, step_scale, seed, dt_range=(5e-4, 2e-3), dwell=0.0):
     return t, x
 
 
+def spoil_sample(t, x, where, what):
+    """Copies of ``t`` and ``x`` with one bad sample at ``where``, and the message it must give.
+
+    ``what``: "x nan", "x inf", "t nan", "t inf", "t repeated" or "overflow"
+    (finite positions whose step velocity is not). The message is a regular
+    expression for ``pytest.raises(match=...)``.
+    """
+    t, x = np.array(t, dtype=float), np.array(x, dtype=float)
+    if what in ("x nan", "x inf", "t nan", "t inf"):
+        name, value = what.split()
+        (x if name == "x" else t)[where] = float(value)
+        return t, x, f"'{name}' samples must be finite. Got {value} at index {where}"
+    if what == "t repeated":
+        t[where] = t[where - 1]
+        return t, x, fr"'t' samples must be strictly increasing. Got t\[{where}\]"
+    if what == "overflow":
+        x[where], x[where - 1] = 1e308, -1e308
+        return t, x, "overflow"
+    raise ValueError(f"unknown spoiling {what!r}")
+
+
 # ---------------------------------------------------------------------------
 # Assertions
 # ---------------------------------------------------------------------------

@@ -35,6 +35,7 @@ from scipy.integrate import solve_ivp
 
 __all__ = [
     "DEFAULTS",
+    "pol_ind_varying_load",
     "OracleResult",
     "dahl_closed_form",
     "dahl_reference_integration",
@@ -407,3 +408,57 @@ def simulate(model: dict, t, x=None, v=None, **options) -> OracleResult:
     """Reference run of ``model`` (a model dict) on the motion ``t``, ``x``|``v``."""
     p = params(model)
     return _STEPPERS[p["type"]](p, motion(t, x=x, v=v), **options)
+
+
+def pol_ind_varying_load(t, x, load, heights, root_weights, separation_at, g_star, mu_s, mu_k,
+                         stribeck_velocity=1e-3, attraction=1e4):
+    """Plain stepper of the Pol-Ind law under a time-varying normal load (positions ``x``).
+
+    The elements are fixed in height (``heights``); at every sample the
+    separation is ``separation_at(load[k])``, each element in contact has
+    stiffness ``8 G* w_j sqrt(delta_j)`` and capacity share ``alpha_j``
+    proportional to ``w_j delta_j^(3/2)`` (``w_j = n_j sqrt(R_j)``, the
+    ``root_weights``), forces are clipped to ``alpha_j mu_s N``, an element out
+    of contact (or just back) restarts stuck at zero, and the GMS rule with
+    ``g(v) = N [mu_k + (mu_s - mu_k) exp(-(v / vs)^2)]`` advances the rest.
+    """
+    force_el = np.zeros(heights.size)
+    slipping = np.zeros(heights.size)
+    in_contact = np.ones(heights.size, dtype=bool)
+    out = np.zeros(t.size)
+    for k in range(t.size):
+        d = separation_at(load[k])
+        delta = np.maximum(heights - d, 0.0)
+        stiffness = 8 * g_star * root_weights * np.sqrt(delta)
+        breakaway = root_weights * delta ** 1.5
+        alpha = breakaway / breakaway.sum()
+        capacity = alpha * mu_s * load[k]
+        now = delta > 0
+        force_el = np.clip(force_el, -capacity, capacity)
+        slipping[~now | (now & ~in_contact)] = 0.0     # out of contact, or new: stuck at 0
+        in_contact = now
+        if k > 0:
+            h = t[k] - t[k - 1]
+            v = (x[k] - x[k - 1]) / h
+            if v != 0:
+                g = load[k] * (mu_k + (mu_s - mu_k) * math.exp(-(v / stribeck_velocity) ** 2))
+                direction = np.sign(v)
+                for j in range(heights.size):
+                    if alpha[j] == 0.0:
+                        force_el[j] = 0.0
+                        continue
+                    target = direction * alpha[j] * g
+                    if slipping[j] != direction:
+                        slipping[j] = 0.0
+                    if slipping[j] == 0.0 and direction * force_el[j] < alpha[j] * g:
+                        trial = force_el[j] + stiffness[j] * v * h
+                        if direction * trial >= alpha[j] * g:
+                            force_el[j], slipping[j] = target, direction
+                        else:
+                            force_el[j] = trial
+                    else:
+                        slipping[j] = direction
+                        force_el[j] = target + (force_el[j] - target) * math.exp(
+                            -attraction * h / (alpha[j] * g))
+        out[k] = force_el.sum()
+    return out

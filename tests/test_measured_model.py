@@ -189,51 +189,14 @@ def test_sliding_friction_on_a_map_follows_amontons(rough_map, load):
         assert force[-1] == pytest.approx(math.copysign(mu * load, velocity), rel=1e-9)
 
 
-def reference_varying_load(measured, t, x, load, mu_s=0.15, mu_k=0.10, vs=1e-3, c=1e4):
+def reference_varying_load(measured, t, x, load):
     """Plain stepper: elements of the summits touching at max load, d(t) by brentq."""
     heights = measured.summit_heights - measured.summit_heights.mean()
     radii = measured.summit_radii
     _, el_h, el_r, _, _ = plain_elements(measured, float(load.max()))
-    force_el = np.zeros(el_h.size)
-    slipping = np.zeros(el_h.size)
-    in_contact = np.ones(el_h.size, dtype=bool)
-    out = np.zeros(t.size)
-    for k in range(t.size):
-        d = plain_separation(load[k], heights, radii)
-        delta = np.maximum(el_h - d, 0.0)
-        breakaway = np.sqrt(el_r) * delta ** 1.5
-        stiffness = 8 * G_STAR * np.sqrt(el_r * delta)
-        alpha = breakaway / breakaway.sum()
-        capacity = alpha * mu_s * load[k]
-        now = delta > 0
-        force_el = np.clip(force_el, -capacity, capacity)
-        slipping[~now | (now & ~in_contact)] = 0.0
-        in_contact = now
-        if k > 0:
-            h = t[k] - t[k - 1]
-            v = (x[k] - x[k - 1]) / h
-            if v != 0:
-                g = load[k] * (mu_k + (mu_s - mu_k) * math.exp(-(v / vs) ** 2))
-                direction = np.sign(v)
-                for j in range(el_h.size):
-                    if alpha[j] == 0.0:
-                        force_el[j] = 0.0
-                        continue
-                    target = direction * alpha[j] * g
-                    if slipping[j] != direction:
-                        slipping[j] = 0.0
-                    if slipping[j] == 0.0 and direction * force_el[j] < alpha[j] * g:
-                        trial = force_el[j] + stiffness[j] * v * h
-                        if direction * trial >= alpha[j] * g:
-                            force_el[j], slipping[j] = target, direction
-                        else:
-                            force_el[j] = trial
-                    else:
-                        slipping[j] = direction
-                        force_el[j] = target + (force_el[j] - target) * math.exp(
-                            -c * h / (alpha[j] * g))
-        out[k] = force_el.sum()
-    return out
+    return oracles.pol_ind_varying_load(
+        t, x, load, el_h, np.sqrt(el_r), lambda n: plain_separation(n, heights, radii),
+        G_STAR, mu_s=0.15, mu_k=0.10)
 
 
 def test_a_time_varying_load_on_a_map_follows_the_rules(rough_map):

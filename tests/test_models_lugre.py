@@ -8,7 +8,8 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import oracles
-from conftest import LUGRE_1995, assert_close, polyline, random_walk, representative, run
+from conftest import (LUGRE_1995, assert_close, polyline, random_walk, representative, run,
+                      spoil_sample)
 
 REL = 1e-9
 S0 = LUGRE_1995["bristle_stiffness"]
@@ -158,22 +159,6 @@ def test_a_bad_sample_in_any_block_is_named(where, what):
     import polind
 
     t, x = random_walk(2600, 5e-6, seed=4)
-    t, x = t.copy(), x.copy()
-    if what == "x nan":
-        x[where] = math.nan
-        message = f"'x' samples must be finite. Got nan at index {where}"
-    elif what == "x inf":
-        x[where] = math.inf
-        message = f"'x' samples must be finite. Got inf at index {where}"
-    elif what == "t nan":
-        t[where] = math.nan
-        message = f"'t' samples must be finite. Got nan at index {where}"
-    elif what == "t repeated":
-        t[where] = t[where - 1]
-        message = f"'t' samples must be strictly increasing. Got t[{where}]"
-    else:
-        x[where] = 1e308
-        x[where - 1] = -1e308
-        message = "overflow"
-    with pytest.raises(polind.InputError, match=message.replace("[", r"\[").replace("]", r"\]")):
+    t, x, message = spoil_sample(t, x, where, what)
+    with pytest.raises(polind.InputError, match=message):
         polind.simulate(polind.model_from_dict({"model": lugre()}), t, x=x)

@@ -14,6 +14,7 @@ from conftest import (
     random_walk,
     representative,
     run,
+    spoil_sample,
 )
 
 K = np.array(STIFFNESS)
@@ -216,20 +217,9 @@ def test_any_sample_count_matches_the_oracle(samples):
 @pytest.mark.parametrize("where", [1, 2, 3, 300, 2600])
 @pytest.mark.parametrize("what", ["x nan", "t inf", "t repeated"])
 def test_a_bad_sample_in_any_block_is_named(where, what):
-    import math
-
     import polind
 
     t, x = random_walk(2601, 4e-6, seed=1)
-    t, x = t.copy(), x.copy()
-    if what == "x nan":
-        x[where] = math.nan
-        message = f"'x' samples must be finite. Got nan at index {where}"
-    elif what == "t inf":
-        t[where] = math.inf
-        message = f"'t' samples must be finite. Got inf at index {where}"
-    else:
-        t[where] = t[where - 1]
-        message = fr"'t' samples must be strictly increasing. Got t\[{where}\]"
+    t, x, message = spoil_sample(t, x, where, what)
     with pytest.raises(polind.InputError, match=message):
         polind.simulate(polind.model_from_dict({"model": ms()}), t, x=x)

@@ -163,54 +163,19 @@ def gw_load(d, p):
 
 
 def reference_varying_load(model, t, x, load):
-    """Plain stepper of 7.5-7.6 with elements fixed in h, re-solved d(t)."""
+    """Plain stepper of 7.5-7.6 with elements fixed in h, d(t) by brentq on the GW load."""
     p = model.params
     table = model.element_table(float(load.max()))
-    heights, counts = table.heights, table.asperities
-    radius, e_star, g_star = table.asperity_radius, table.E_star, table.G_star
-    mu_s, mu_k, c = p["static_coefficient"], p["kinetic_coefficient"], p["attraction"]
     sigma = p["surface"]["height_std"]
-    force_el = np.zeros(heights.size)
-    slipping = np.zeros(heights.size)
-    in_contact = np.ones(heights.size, dtype=bool)
-    out = np.zeros(t.size)
-    for k in range(t.size):
-        d = optimize.brentq(lambda d: gw_load(d, p) - load[k], -4 * sigma, 8 * sigma,
-                            xtol=1e-22, rtol=1e-15)
-        delta = np.maximum(heights - d, 0.0)
-        stiffness = counts * 8 * g_star * np.sqrt(radius * delta)
-        breakaway = counts * mu_s * 4 / 3 * e_star * np.sqrt(radius) * delta ** 1.5
-        alpha = breakaway / breakaway.sum()
-        capacity = alpha * mu_s * load[k]
-        now = delta > 0
-        force_el = np.clip(force_el, -capacity, capacity)
-        slipping[~now | (now & ~in_contact)] = 0.0     # out of contact, or new: stuck at 0
-        in_contact = now
-        if k > 0:
-            h = t[k] - t[k - 1]
-            v = (x[k] - x[k - 1]) / h
-            if v != 0:
-                g = stribeck(v, n=load[k], mu_s=mu_s, mu_k=mu_k)
-                direction = np.sign(v)
-                for j in range(heights.size):
-                    if alpha[j] == 0.0:
-                        force_el[j] = 0.0
-                        continue
-                    target = direction * alpha[j] * g
-                    if slipping[j] != direction:
-                        slipping[j] = 0.0
-                    if slipping[j] == 0.0 and direction * force_el[j] < alpha[j] * g:
-                        trial = force_el[j] + stiffness[j] * v * h
-                        if direction * trial >= alpha[j] * g:
-                            force_el[j], slipping[j] = target, direction
-                        else:
-                            force_el[j] = trial
-                    else:
-                        slipping[j] = direction
-                        force_el[j] = target + (force_el[j] - target) * math.exp(
-                            -c * h / (alpha[j] * g))
-        out[k] = force_el.sum()
-    return out
+
+    def separation_at(n):
+        return optimize.brentq(lambda d: gw_load(d, p) - n, -4 * sigma, 8 * sigma,
+                               xtol=1e-22, rtol=1e-15)
+
+    return oracles.pol_ind_varying_load(
+        t, x, load, table.heights, table.asperities * np.sqrt(table.asperity_radius),
+        separation_at, table.G_star, p["static_coefficient"], p["kinetic_coefficient"],
+        p["stribeck_velocity"], p["attraction"])
 
 
 def test_time_varying_load_follows_the_rules_of_7_5():
