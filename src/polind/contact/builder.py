@@ -179,6 +179,16 @@ def build_contact(params: Mapping | None = None, base_dir=None, *, surface=None)
     return Contact(surface=surface, normal_load=normal_load, separation=separation, elements=elements)
 
 
+def _file_name(value, key, base_dir):
+    """A file the model table names, relative to ``base_dir`` (the model file's folder)."""
+    if not isinstance(value, (str, os.PathLike)) or not os.fspath(value):
+        raise InputError(f"The '{key}' of pol-ind must be a file name. Got {describe(value)}.")
+    path = os.fspath(value)
+    if base_dir is not None and not os.path.isabs(path):
+        path = os.path.join(os.fspath(base_dir), path)
+    return path
+
+
 def measured_surface(surface_keys: Mapping, E_star, G_star, base_dir=None):
     """The direct surface of a ``[model.surface]`` table with a ``topography`` (a height map).
 
@@ -189,12 +199,7 @@ def measured_surface(surface_keys: Mapping, E_star, G_star, base_dir=None):
     """
     from polind.topography import load_measured_surface
 
-    path = surface_keys["topography"]
-    if not isinstance(path, (str, os.PathLike)) or not os.fspath(path):
-        raise InputError(f"The 'surface.topography' of pol-ind must be a file name. Got {describe(path)}.")
-    path = os.fspath(path)
-    if base_dir is not None and not os.path.isabs(path):
-        path = os.path.join(os.fspath(base_dir), path)
+    path = _file_name(surface_keys["topography"], "surface.topography", base_dir)
     measured = load_measured_surface(path, surface_keys.get("pixel_size"),
                                      surface_keys.get("short_cutoff"))
     return DirectSurface.from_topography(measured, E_star, G_star,
@@ -244,14 +249,7 @@ def build_surface(params: Mapping | None = None, base_dir=None):
         )
     elif summation == "direct":
         if heights_file is not None:
-            if not isinstance(heights_file, (str, os.PathLike)):
-                raise InputError(
-                    "The 'discretisation.heights_file' of pol-ind must be a file name. "
-                    f"Got {describe(heights_file)}."
-                )
-            path = os.fspath(heights_file)
-            if base_dir is not None and not os.path.isabs(path):
-                path = os.path.join(os.fspath(base_dir), path)
+            path = _file_name(heights_file, "discretisation.heights_file", base_dir)
             surface = DirectSurface.from_csv(path, surface_keys["asperity_radius"], E_star, G_star)
         else:
             surface = DirectSurface.from_seed(
