@@ -181,12 +181,23 @@ def read_model_file(path) -> dict:
     # Files a model names are relative to the model file.  A value that is
     # not a string is the model's to reject.
     folder = os.path.dirname(os.path.abspath(name))
-    for table, key in (("discretisation", "heights_file"), ("surface", "topography")):
-        entries = document["model"].get(table)
-        value = entries.get(key) if isinstance(entries, dict) else None
+    for entries, key, value in named_files(document["model"]):
         if isinstance(value, str) and value and not os.path.isabs(value):
             entries[key] = os.path.normpath(os.path.join(folder, value))
     return document
+
+
+#: The files a ``[model]`` table may name, as ``(sub-table, key)``: relative to
+#: the model file in a file, absolute once read.
+MODEL_FILE_KEYS = (("discretisation", "heights_file"), ("surface", "topography"))
+
+
+def named_files(model_table):
+    """``(sub-table, key, value)`` for each of :data:`MODEL_FILE_KEYS` (value None when absent)."""
+    for table, key in MODEL_FILE_KEYS:
+        entries = model_table.get(table) if isinstance(model_table, dict) else None
+        value = entries.get(key) if isinstance(entries, dict) else None
+        yield entries, key, value
 
 
 def _expected_columns(require, one_of, optional) -> str:
@@ -1227,9 +1238,7 @@ def save_model(model, path) -> None:
                          f"instead.")
     # The files the model reads: written absolute, and never replaced by the model file.
     inputs = []
-    for table, key in (("discretisation", "heights_file"), ("surface", "topography")):
-        entries = document["model"].get(table)
-        value = entries.get(key) if isinstance(entries, dict) else None
+    for entries, key, value in named_files(document["model"]):
         if value:
             entries[key] = os.path.abspath(value)
             inputs.append(entries[key])

@@ -103,11 +103,10 @@ _SURFACES_LOCK = threading.Lock()
 def _surface_of(params):
     """The surface of a parameter set, from the cache of recently built ones."""
     from polind.contact import build_surface
+    from polind.io import named_files
 
     parts = {key: params.get(key) for key in ("surface", "materials", "discretisation")}
-    files = {"heights_file": (params.get("discretisation") or {}).get("heights_file"),
-             "topography": (params.get("surface") or {}).get("topography")}
-    for name, path in files.items():
+    for _, name, path in named_files(params):
         if path:
             try:
                 status = os.stat(path)
