@@ -32,6 +32,7 @@ from polind.kernels.separation import (
     statistical_load_and_slope,
     statistical_separation,
     statistical_separation_at,
+    statistical_separation_only,
     statistical_start,
 )
 from polind.kernels.special import special_addresses
@@ -302,3 +303,24 @@ def test_the_model_kernels_entry_takes_the_addresses_as_numbers(surface):
         for kve_address, ive_address in (ADDRESSES.tolist(), ADDRESSES.astype(float).tolist()):
             assert statistical_separation_at(load, lo, hi, surface._load_scale, SIGMA, kve_address,
                                              ive_address) == want
+
+
+def test_the_separation_alone_is_the_checked_one(surface):
+    """``statistical_separation_only`` skips the check of the start inside the bracket, nothing else.
+
+    Bit for bit the separation of ``statistical_separation_at`` at loads
+    across the surface's range (where that check always passes), at its
+    ends, beyond them (the Newton fallback) and for NaN (which a caller refuses first).
+    """
+    lo, hi = surface.separation_range
+    smallest, largest = surface.load_range
+    kve_address, ive_address = ADDRESSES.tolist()
+    loads = (np.geomspace(smallest, largest, 4001).tolist()
+             + [smallest * (1 + 1e-12), largest * (1 - 1e-12), largest * 1.5, smallest / 3.0,
+                largest * (1 + 1e-6), 1e-300, 1e300, math.nan])
+    for load in loads:
+        want = statistical_separation_at(load, lo, hi, surface._load_scale, SIGMA, kve_address,
+                                         ive_address)
+        got = statistical_separation_only(load, lo, hi, surface._load_scale, SIGMA, kve_address,
+                                          ive_address)
+        assert got == want[0] or (math.isnan(got) and math.isnan(want[0])), load
