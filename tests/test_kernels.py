@@ -51,3 +51,29 @@ def test_kernels_agree_with_the_plain_numpy_loops_of_the_benchmark(model_type, n
     scale = np.max(np.abs(reference))
     assert scale > 0
     assert np.max(np.abs(kernel - reference)) <= 1e-11 * scale
+
+
+def test_compiled_entry_is_the_dispatchers_compiled_function():
+    """``compiled_entry`` (what Stepper calls) computes what the dispatcher computes, or is it."""
+    import numba
+
+    from polind.kernels import compiled_entry
+
+    @numba.njit
+    def scaled_sum(values, factor):
+        values[0] += factor
+        return values.sum() * factor
+
+    values = np.arange(4.0)
+    entry = compiled_entry(scaled_sum, values, 2.0)
+    assert entry is not scaled_sum
+    assert values.tolist() == [0.0, 1.0, 2.0, 3.0]          # compiled, not called
+    twin = values.copy()
+    assert entry(values, 3.0) == scaled_sum(twin, 3.0)
+    assert values.tolist() == twin.tolist()                  # same effect on the array
+
+    def plain(values, factor):
+        return 0.0
+
+    assert compiled_entry(plain, values, 2.0) is plain       # not a dispatcher
+    assert compiled_entry(scaled_sum, "text", 2.0) is scaled_sum   # a signature numba refuses

@@ -24,6 +24,7 @@ import math
 import numpy as np
 
 from polind.errors import InputError, describe
+from polind.kernels import compiled_entry
 from polind.models import FrictionModel, State
 from polind.validation import check_number
 
@@ -154,7 +155,10 @@ class Stepper:
         self._template = start
         kernel = model.step_kernel(start, varying_load=True)
         self._kernel = kernel
-        self._step = kernel.step
+        # The compiled step for these arrays and floats, called without numba's
+        # per-call type dispatch (advance passes exactly these types).
+        self._step = compiled_entry(kernel.step, kernel.scalars, kernel.table, kernel.state, 1.0,
+                                    1.0, 1.0, 1.0, float(kernel.normal_load))
         # A mounted contact (series spring, load scaling) runs one-sample paths instead.
         self._path = None if kernel.mount is None else np.zeros((6, 2))
         self._path_load = kernel.normal_load
