@@ -77,3 +77,17 @@ def test_compiled_entry_is_the_dispatchers_compiled_function():
 
     assert compiled_entry(plain, values, 2.0) is plain       # not a dispatcher
     assert compiled_entry(scaled_sum, "text", 2.0) is scaled_sum   # a signature numba refuses
+
+
+@pytest.mark.parametrize("model_type, n", [("maxwell-slip", 1024), ("gms", 7), ("lugre", 1)])
+def test_kernel_arrays_start_on_a_cache_line(model_type, n):
+    from polind.models.base import cache_aligned
+
+    kernel = bench.bench_model(model_type, n).step_kernel()
+    for values in (kernel.scalars, kernel.table, kernel.state):
+        assert values.size == 0 or values.ctypes.data % 64 == 0     # (LuGre has no table)
+        assert values.dtype == np.float64 and values.flags.c_contiguous
+    raw = np.arange(15.0).reshape(3, 5)[:, ::2]          # not contiguous
+    aligned = cache_aligned(raw)
+    assert aligned.ctypes.data % 64 == 0 and aligned.flags.c_contiguous
+    np.testing.assert_array_equal(aligned, raw)
