@@ -140,18 +140,30 @@ def gms_elements(element_force, slip_direction, stiffness, weight, inverse_weigh
     """
     total = 0.0
     for i in range(element_force.shape[0]):
-        force = element_force[i]
-        capacity = weight[i] * capacity_scale
-        target = direction * capacity
-        relaxed = target + (force - target) * decay_exp(decay_rate * inverse_weight[i])
-        trial = force + stiffness[i] * displacement
-        slipping = (slip_direction[i] == direction) or (direction * force >= capacity)
-        crosses = direction * trial >= capacity
-        new_force = relaxed if slipping else (target if crosses else trial)
-        element_force[i] = new_force
-        slip_direction[i] = direction if (slipping or crosses) else 0.0
-        total += new_force
+        force, slip = gms_element(element_force[i], slip_direction[i], stiffness[i], weight[i],
+                                  inverse_weight[i], capacity_scale, direction, displacement,
+                                  decay_rate)
+        element_force[i] = force
+        slip_direction[i] = slip
+        total += force
     return total
+
+
+@jit(inline="always")
+def gms_element(force, slip, stiffness, weight, inverse_weight, capacity_scale, direction,
+                displacement, decay_rate):
+    """One GMS element over one step (:func:`gms_elements`): its new force and slip direction.
+
+    Branch-free (selects), so that a loop over elements vectorises.
+    """
+    capacity = weight * capacity_scale
+    target = direction * capacity
+    relaxed = target + (force - target) * decay_exp(decay_rate * inverse_weight)
+    trial = force + stiffness * displacement
+    slipping = (slip == direction) or (direction * force >= capacity)
+    crosses = direction * trial >= capacity
+    new_force = relaxed if slipping else (target if crosses else trial)
+    return new_force, direction if (slipping or crosses) else 0.0
 
 
 # --- the stepping contract (polind.kernels.contract) of the element models ---------------

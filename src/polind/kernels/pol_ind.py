@@ -42,8 +42,8 @@ from polind.kernels.dynamics import advance_body_template, integrate_system_temp
 from polind.kernels.elements import (ATTRACTION, ELEMENT_CAPACITY, ELEMENT_INVERSE,
                                      ELEMENT_STIFFNESS, STRIBECK_EXPONENT, STRIBECK_SHAPE,
                                      STRIBECK_VELOCITY, VISCOUS, element_properties,
-                                     element_sum, gms_force, gms_step_scaled, gms_tangent)
-from polind.kernels.fastexp import decay_exp
+                                     element_sum, gms_element, gms_force, gms_step_scaled,
+                                     gms_tangent)
 from polind.kernels.separation import (DIRECT, direct_lower_bound, newton_separation,
                                        predicted_start, statistical_separation_only)
 from polind.kernels.special import IVE, KVE
@@ -210,18 +210,12 @@ def fresh_elements(element_force, slip_direction, stiffness, breakaway, heights,
         # set_load: reset (as a product: a select here stops the vectoriser) and clip.
         slip = slip_direction[i] * (
             1.0 if (heights[i] > previous_separation) & (limit > 0.0) else 0.0)
-        force = min(max(element_force[i], -limit), limit)
-        # gms_elements.
-        capacity = alpha * capacity_scale
-        target = direction * capacity
-        relaxed = target + (force - target) * decay_exp(decay_rate * inverse)
-        trial = force + stiffness[i] * displacement
-        slipping = (slip == direction) or (direction * force >= capacity)
-        crosses = direction * trial >= capacity
-        new_force = relaxed if slipping else (target if crosses else trial)
-        element_force[i] = new_force
-        slip_direction[i] = direction if (slipping or crosses) else 0.0
-        result += new_force
+        force, slip = gms_element(min(max(element_force[i], -limit), limit), slip,
+                                  stiffness[i], alpha, inverse, capacity_scale, direction,
+                                  displacement, decay_rate)
+        element_force[i] = force
+        slip_direction[i] = slip
+        result += force
     return result
 
 
