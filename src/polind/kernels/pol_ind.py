@@ -277,11 +277,31 @@ def load_step(scalars, table, state, step, displacement, step_velocity, sample_v
 @jit(inline="always")
 def pol_ind_step(scalars, table, state, step, displacement, step_velocity, sample_velocity,
                  normal_load):
-    """The GMS law with ``g(v) = N [mu_k + (mu_s - mu_k) shape(v)]`` (:ref:`guide-pol-ind-law`)."""
+    """The GMS law with ``g(v) = N [mu_k + (mu_s - mu_k) shape(v)]`` (:ref:`guide-pol-ind-law`).
+
+    A moving step at a new load is :func:`load_step` (one pass); the rest is
+    :func:`settled_step`.
+    """
+    if normal_load != scalars[CURRENT_LOAD] and step_velocity != 0.0:
+        return load_step(scalars, table, state, step, displacement, step_velocity,
+                         sample_velocity, normal_load)
+    return settled_step(scalars, table, state, step, displacement, step_velocity,
+                        sample_velocity, normal_load)
+
+
+@jit(inline="always")
+def settled_step(scalars, table, state, step, displacement, step_velocity, sample_velocity,
+                 normal_load):
+    """The table brought to the load first (:func:`set_load_apart`, or the stale weights), then the GMS step.
+
+    Also the whole step of the one-degree-of-freedom templates
+    (:func:`pol_ind_integrate`, :func:`pol_ind_body`), which call it at two
+    places (trial and commit) and see a new load only at the first trial of
+    a sample: inlining :func:`load_step` there twice costs seconds of
+    compilation and saves nothing.  Its forces are :func:`load_step`'s to
+    rounding.
+    """
     if normal_load != scalars[CURRENT_LOAD]:
-        if step_velocity != 0.0:
-            return load_step(scalars, table, state, step, displacement, step_velocity,
-                             sample_velocity, normal_load)
         set_load_apart(scalars, table, state, normal_load)
     elif scalars[TABLE_STALE] != 0.0:
         refresh_shares(scalars, table)
@@ -325,10 +345,10 @@ def pol_ind_motion(scalars, table, state, source_t, source_motion, t, motion, by
 @jit
 def pol_ind_integrate(arguments):
     """:func:`polind.kernels.dynamics.integrate_system_template` specialised to Pol-Ind (cacheable)."""
-    integrate_system_template(pol_ind_step, pol_ind_tangent, arguments)
+    integrate_system_template(settled_step, pol_ind_tangent, arguments)
 
 
 @jit
 def pol_ind_body(arguments):
     """:func:`polind.kernels.dynamics.advance_body_template` specialised to Pol-Ind (cacheable)."""
-    advance_body_template(pol_ind_step, pol_ind_tangent, arguments)
+    advance_body_template(settled_step, pol_ind_tangent, arguments)
