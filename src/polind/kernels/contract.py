@@ -205,6 +205,38 @@ def cut_sample(t_in, x_in, t_out, x_out, i):
     return h, dx, w, (t1 > t0) & (t1 < math.inf) & (abs(w) < math.inf)
 
 
+@jit(inline="always")
+def block_views(source_t, source_motion, t, motion, velocity, out_force, a, b):
+    """Samples ``a .. b - 1`` of a blocked motion kernel as views indexed from 0.
+
+    ``(t_in, x_in, t_out, x_out, w_out, f_out)``: the sources from the
+    sample before the block (:func:`cut_sample`), the copies, step
+    velocities and forces from its first sample.  Indexed from 0, the
+    compiler sees non-negative indices and vectorises the block's loops.
+    """
+    return (source_t[a - 1:b], source_motion[a - 1:b], t[a:b], motion[a:b], velocity[a:b],
+            out_force[a:b])
+
+
+@jit(inline="always")
+def motion_head(step, force, scalars, table, state, source_t, source_motion, t, motion,
+                by_velocity, start_position, start_velocity, continuing, position, velocity,
+                loads, constant_load, lo, first, out_force):
+    """A blocked motion kernel's first samples: ``(code, index, lo)``.
+
+    With ``first``, samples ``lo`` and ``lo + 1`` run through
+    :func:`run_motion` (the force at the start, and the first step at the
+    start's velocity) and ``lo`` moves on by one; without, nothing runs.
+    """
+    if not first:
+        return VALID, -1, lo
+    code, index = run_motion(step, force, scalars, table, state, source_t, source_motion, t,
+                             motion, by_velocity, start_position, start_velocity, continuing,
+                             position, velocity, loads, constant_load, lo, lo + 2, True,
+                             out_force)
+    return code, index, lo + 1
+
+
 @jit(cache=False)
 def run_motion_any(step, force, scalars, table, state, source_t, source_motion, t, motion,
                    by_velocity, start_position, start_velocity, continuing, position, velocity,

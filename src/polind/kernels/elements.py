@@ -34,7 +34,8 @@ import math
 import numpy as np
 
 from polind.kernels import jit
-from polind.kernels.contract import VALID, cut_sample, run_motion, run_steps
+from polind.kernels.contract import (VALID, block_views, cut_sample, motion_head, run_motion,
+                                     run_steps)
 from polind.kernels.dynamics import advance_body_template, integrate_system_template
 from polind.kernels.fastexp import decay_exp
 from polind.kernels.stribeck import sign, stribeck_curve
@@ -260,14 +261,12 @@ def maxwell_slip_motion(scalars, table, state, source_t, source_motion, t, motio
                           source_t, source_motion, t, motion, by_velocity, start_position,
                           start_velocity, continuing, position, velocity, loads, constant_load,
                           lo, hi, first, out_force)
-    if first:       # samples lo and lo + 1 as the template does them (the start's velocity)
-        code, index = run_motion(maxwell_slip_step, maxwell_slip_force, scalars, table, state,
-                                 source_t, source_motion, t, motion, by_velocity,
-                                 start_position, start_velocity, continuing, position,
-                                 velocity, loads, constant_load, lo, lo + 2, True, out_force)
-        if code != VALID:
-            return code, index
-        lo = lo + 1
+    code, index, lo = motion_head(maxwell_slip_step, maxwell_slip_force, scalars, table, state, source_t,
+                                  source_motion, t, motion, by_velocity, start_position,
+                                  start_velocity, continuing, position, velocity, loads,
+                                  constant_load, lo, first, out_force)
+    if code != VALID:
+        return code, index
     stiffness = table[ELEMENT_STIFFNESS]
     capacity = table[ELEMENT_CAPACITY]
     viscous = scalars[VISCOUS]
@@ -278,14 +277,8 @@ def maxwell_slip_motion(scalars, table, state, source_t, source_motion, t, motio
     while a < hi:
         b = min(a + MOTION_BLOCK, hi)
         m = b - a
-        # Views of the block, indexed from 0: the compiler sees non-negative
-        # indices and vectorises the loop.
-        t_in = source_t[a - 1:b]
-        x_in = source_motion[a - 1:b]
-        t_out = t[a:b]
-        x_out = motion[a:b]
-        w_out = velocity[a:b]
-        f_out = out_force[a:b]
+        t_in, x_in, t_out, x_out, w_out, f_out = block_views(source_t, source_motion, t, motion,
+                                                              velocity, out_force, a, b)
         bad = 0
         for i in range(m):
             h, dx, w, ok = cut_sample(t_in, x_in, t_out, x_out, i)
