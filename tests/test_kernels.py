@@ -80,14 +80,15 @@ def test_compiled_entry_is_the_dispatchers_compiled_function():
 
 
 @pytest.mark.parametrize("model_type, n", [("maxwell-slip", 1024), ("gms", 7), ("lugre", 1)])
-def test_kernel_arrays_start_on_a_cache_line(model_type, n):
-    from polind.models.base import cache_aligned
+def test_kernel_arrays_are_placed_in_their_pages(model_type, n):
+    from polind.models.base import SCALARS_OFFSET, STATE_OFFSET, TABLE_OFFSET, page_placed
 
     kernel = bench.bench_model(model_type, n).step_kernel()
-    for values in (kernel.scalars, kernel.table, kernel.state):
-        assert values.size == 0 or values.ctypes.data % 64 == 0     # (LuGre has no table)
+    for values, offset in ((kernel.scalars, SCALARS_OFFSET), (kernel.table, TABLE_OFFSET),
+                           (kernel.state, STATE_OFFSET)):
+        assert values.size == 0 or values.ctypes.data % 4096 == offset   # (LuGre has no table)
         assert values.dtype == np.float64 and values.flags.c_contiguous
     raw = np.arange(15.0).reshape(3, 5)[:, ::2]          # not contiguous
-    aligned = cache_aligned(raw)
-    assert aligned.ctypes.data % 64 == 0 and aligned.flags.c_contiguous
-    np.testing.assert_array_equal(aligned, raw)
+    placed = page_placed(raw, 192)
+    assert placed.ctypes.data % 4096 == 192 and placed.flags.c_contiguous
+    np.testing.assert_array_equal(placed, raw)

@@ -34,7 +34,7 @@ import numpy as np
 from polind.errors import InputError
 from polind.kernels import jit
 from polind.models import model_from_dict
-from polind.models.base import cache_aligned
+from polind.models.base import STATE_OFFSET, TABLE_OFFSET, page_placed
 from polind.simulate import make_path
 from polind.models.static import stribeck_curve
 
@@ -544,14 +544,14 @@ def maxwell_slip_simulate_ratio(n, samples, rounds=5):
     """A bare Maxwell-slip loop over ``simulate`` on ``n`` elements: ``(ratio, detail)``."""
     model = bench_model("maxwell-slip", n)
     p = model.params
-    # On cache lines, as simulate's arrays are: misaligned, the bare loop runs up to
-    # 1.5 times slower, and the ratio would move with where NumPy put them.
-    stiffness = cache_aligned(p["stiffness"])
-    slip = cache_aligned(np.array(p["breakaway_force"]) / stiffness)
+    # Placed in their pages as simulate's arrays are (page_placed): else the bare loop
+    # runs up to 1.5 times slower, or 1.8 times, as NumPy happens to place them.
+    stiffness = page_placed(p["stiffness"], TABLE_OFFSET)
+    slip = page_placed(np.array(p["breakaway_force"]) / stiffness, TABLE_OFFSET)
 
     def reference(t, x):
         out = np.empty(x.shape[0])
-        bare_maxwell_slip(x, stiffness, slip, cache_aligned(np.zeros(n)), out)
+        bare_maxwell_slip(x, stiffness, slip, page_placed(np.zeros(n), STATE_OFFSET), out)
         return out
 
     return _simulate_ratio(model, reference, samples, rounds)
@@ -581,8 +581,8 @@ def gms_simulate_ratio(model, gms, samples=50_000, rounds=3):
     a Pol-Ind model's ``gms_parameters()`` (at its constant load Pol-Ind *is*
     GMS with its element table, :ref:`guide-pol-ind-law`).
     """
-    stiffness = cache_aligned(gms["stiffness"])     # (as maxwell_slip_simulate_ratio)
-    weight = cache_aligned(gms["weight"])
+    stiffness = page_placed(gms["stiffness"], TABLE_OFFSET)   # (as maxwell_slip_simulate_ratio)
+    weight = page_placed(gms["weight"], TABLE_OFFSET)
     if gms["stribeck_shape"] != "exponential" or gms["viscous_coefficient"] != 0.0:
         raise ValueError("plain_gms is written for the exponential Stribeck curve, no sigma2")
 
@@ -590,8 +590,8 @@ def gms_simulate_ratio(model, gms, samples=50_000, rounds=3):
         out = np.empty(x.shape[0])
         plain_gms(t, x, stiffness, weight, gms["attraction"], gms["coulomb_force"],
                   gms["static_force"], gms["stribeck_velocity"], gms["stribeck_exponent"],
-                  cache_aligned(np.zeros(stiffness.shape[0])),
-                  cache_aligned(np.zeros(stiffness.shape[0])), out)
+                  page_placed(np.zeros(stiffness.shape[0]), STATE_OFFSET),
+                  page_placed(np.zeros(stiffness.shape[0]), STATE_OFFSET + 1024), out)
         return out
 
     return _simulate_ratio(model, reference, samples, rounds)

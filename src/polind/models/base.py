@@ -223,20 +223,32 @@ class StepFunctions:
     motion: object = None
 
 
-def cache_aligned(values):
-    """A C-contiguous float64 copy of ``values`` whose data starts on a 64-byte cache line.
+#: Where a kernel's arrays start within a 4096-byte page (:func:`page_placed`): the
+#: table (read in the element loops), the state (written there) half a page away,
+#: the scalars (written per sample by a varying load) between.
+TABLE_OFFSET, STATE_OFFSET, SCALARS_OFFSET = 0, 2048, 3072
 
-    NumPy aligns its arrays to 16 bytes; an element loop over arrays that
-    straddle cache lines at a varying offset runs up to 1.5 times slower from
-    one process to the next (measured on the 1024-element Maxwell-slip
-    benchmark), so the arrays a kernel steps start on a line.
+
+def page_placed(values, offset=0):
+    """A C-contiguous float64 copy of ``values`` starting ``offset`` bytes into a 4096-byte page.
+
+    Two things about where an array starts cost an element loop time, both
+    measured on the 1024-element Maxwell-slip benchmark.  An array that
+    straddles cache lines at a varying offset (NumPy aligns to 16 bytes) ran
+    up to 1.5 times slower.  A load whose address agrees with that of an
+    earlier store in its low 12 bits waits for it (4K aliasing): with the
+    element forces 64 bytes past the element table within a page,
+    ``simulate`` took 47 ms instead of 25-27 ms.  Placing each array at a
+    fixed ``offset`` (a multiple of 64) within a page settles both, so a
+    kernel's arrays are placed with :data:`TABLE_OFFSET`,
+    :data:`STATE_OFFSET` and :data:`SCALARS_OFFSET`.
     """
     values = np.asarray(values, dtype=np.float64)
-    buffer = np.empty(values.size + 8)
-    start = (-(buffer.ctypes.data // 8)) % 8
-    aligned = buffer[start:start + values.size].reshape(values.shape)
-    aligned[...] = values
-    return aligned
+    buffer = np.empty(values.size + 1024)
+    start = (-(buffer.ctypes.data // 8)) % 512 + offset // 8
+    placed = buffer[start:start + values.size].reshape(values.shape)
+    placed[...] = values
+    return placed
 
 
 @dataclass
@@ -647,9 +659,9 @@ class FrictionModel:
             step=functions.step, force=functions.force, tangent=functions.tangent,
             path=functions.path, integrate=functions.integrate, body=functions.body,
             motion=functions.motion,
-            scalars=cache_aligned(scalars),
-            table=cache_aligned(np.atleast_2d(table)),
-            state=cache_aligned(self.flat_state(state)),
+            scalars=page_placed(scalars, SCALARS_OFFSET),
+            table=page_placed(np.atleast_2d(table), TABLE_OFFSET),
+            state=page_placed(self.flat_state(state), STATE_OFFSET),
             normal_load=float(self.constant_load), force_scale=float(self.force_scale()),
             rest_capacity=rest_capacity, mount=mount)
 
