@@ -123,7 +123,6 @@ def share_rows(table):
 
     Two loops that each write one array, so that LLVM vectorises both; out
     of contact (``W = 0``) ``1/alpha = inf``: such an element never relaxes.
-    Returns ``(sum W, 1 / sum W)``.
     """
     breakaway = table[ELEMENT_SCRATCH]
     weight = table[ELEMENT_CAPACITY]
@@ -135,7 +134,6 @@ def share_rows(table):
     for j in range(breakaway.shape[0]):
         capacity = breakaway[j]
         inverse_weight[j] = total / capacity if capacity > 0.0 else math.inf
-    return total, reciprocal
 
 
 @jit(inline="always")
@@ -169,8 +167,7 @@ def set_load(scalars, table, state, normal_load):
     slip_direction = state[n:2 * n]
     for j in range(n):
         # Out of contact before, or now (new capacity 0): it starts stuck, from
-        # zero force (the clip below).  A product, not a select: the loop
-        # vectorises.
+        # zero force (the clip below).  The reset as fresh_elements writes it.
         slip_direction[j] = slip_direction[j] * (
             1.0 if (heights[j] > previous_separation) & (weight[j] * capacity_scale > 0.0)
             else 0.0)
