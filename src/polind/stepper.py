@@ -155,12 +155,13 @@ class Stepper:
         self._template = start
         kernel = model.step_kernel(start, varying_load=True)
         self._kernel = kernel
-        # The compiled step for these arrays and floats, called without numba's
-        # per-call type dispatch (advance passes exactly these types).
-        self._step = compiled_entry(kernel.step, kernel.scalars, kernel.table, kernel.state, 1.0,
-                                    1.0, 1.0, 1.0, float(kernel.normal_load))
-        # A mounted contact (series spring, load scaling) runs one-sample paths instead.
+        # A mounted contact (series spring, load scaling) runs one-sample paths; the
+        # bare one its compiled step for these arrays and floats, called without
+        # numba's per-call type dispatch (advance passes exactly these types).
         self._path = None if kernel.mount is None else np.zeros((6, 2))
+        self._step = None if self._path is not None else compiled_entry(
+            kernel.step, kernel.scalars, kernel.table, kernel.state, 1.0, 1.0, 1.0, 1.0,
+            float(kernel.normal_load))
         self._path_load = kernel.normal_load
         self._scalars, self._table, self._flat = kernel.scalars, kernel.table, kernel.state
         self._load = kernel.normal_load
