@@ -178,6 +178,20 @@ def test_simulate_bad_paths_exit_2_naming_the_file(capsys, files, which, name, c
     assert not output.exists()
 
 
+@pytest.mark.parametrize("which", ["output", "motion"])
+def test_a_path_ending_in_a_separator_names_a_directory_and_exits_2(capsys, files, which):
+    """``new/`` is refused as a directory, not written as a file ``new`` (pathlib drops the /)."""
+    model_path, motion_path, output = files
+    paths = {"motion": os.fspath(motion_path), "output": os.fspath(output)}
+    paths[which] = os.fspath(output.parent / "new") + "/"
+    status, _, err = run(capsys, "simulate", model_path, "--input", paths["motion"],
+                         "--output", paths["output"])
+    assert status == 2
+    line = the_one_error_line(err)
+    assert paths[which] in line and "directory" in line
+    assert sorted(os.listdir(output.parent)) == ["model.toml", "motion.csv"]
+
+
 MODEL_ERRORS = [
     ("unknown-key", '[model]\ntype = "coulomb"\ncoulomb_forse = 1.0\n', "coulomb_forse"),
     ("missing-key", '[model]\ntype = "coulomb"\n', "coulomb_force"),

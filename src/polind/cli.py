@@ -42,9 +42,23 @@ _PROGRAM = "polind"
 
 # --- pieces shared by the commands ---------------------------------------------------------
 
+class _FilePath(click.Path):
+    """``click.Path`` to a file that refuses a name ending in a separator.
+
+    Such a name means a directory, but the ``pathlib.Path`` it becomes has
+    lost the separator, so that the checks after it (existing directories,
+    :func:`polind.io.check_output_path`) would take ``new/`` for a file ``new``.
+    """
+
+    def convert(self, value, param, ctx):
+        if isinstance(value, str) and value.endswith((os.sep, "/")):
+            self.fail(f"{value}: names a directory; expected a file name", param, ctx)
+        return super().convert(value, param, ctx)
+
+
 def _file_path(**kwargs):
     """A path parameter; existence is checked by the reader, which names the file."""
-    return click.Path(dir_okay=False, path_type=Path, **kwargs)
+    return _FilePath(dir_okay=False, path_type=Path, **kwargs)
 
 
 def model_argument(command):
