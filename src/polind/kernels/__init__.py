@@ -25,7 +25,6 @@ def jit(function=None, **overrides):
     return njit(**options)(function)
 
 
-
 def compiled_entry(function, *arguments):
     """The compiled wrapper of ``function`` for the types of ``arguments``, or ``function`` itself.
 
