@@ -99,7 +99,7 @@ def rows():
     for k in range(10_000):
         time.sleep(0.01)
         yield f"{k}\\n"
-with io._atomic_open(sys.argv[1]) as stream:
+with io.atomic_open(sys.argv[1]) as stream:
     for row in rows():
         stream.write(row)
 """

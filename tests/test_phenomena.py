@@ -167,12 +167,12 @@ def test_loop_area_is_signed_and_free_of_rounding_noise():
     v = 1e-3 + 0.9e-3 * np.sin(phase)
     force = 12.0 + 0.5 * np.cos(phase)        # leads v by a quarter period: clockwise
     expected = np.pi * 0.9e-3 * 0.5
-    assert phenomena._loop_area(v, force) == pytest.approx(expected, rel=1e-5)
-    assert phenomena._loop_area(v, 24.0 - force) == pytest.approx(-expected, rel=1e-5)
-    assert phenomena._loop_area(v, np.full_like(v, 15.0)) == 0.0
+    assert phenomena.cycle_area(v, force) == pytest.approx(expected, rel=1e-5)
+    assert phenomena.cycle_area(v, 24.0 - force) == pytest.approx(-expected, rel=1e-5)
+    assert phenomena.cycle_area(v, np.full_like(v, 15.0)) == 0.0
     # a force that wobbles by a few ulps around 15 N: noise, not a loop
     wobble = 15.0 + 4.0 * np.spacing(15.0) * np.sign(np.sin(7.0 * phase))
-    assert phenomena._loop_area(v, wobble) == 0.0
+    assert phenomena.cycle_area(v, wobble) == 0.0
 
 
 def test_stick_slip_settings_are_the_runs_own(lugre):

@@ -173,7 +173,7 @@ def _lookup(table, model_type, key):
     return table.get((model_type, key), table.get(key))
 
 
-def _number(value) -> str:
+def parse_number(value) -> str:
     if isinstance(value, float):
         text = repr(value)
         if text.endswith(".0") and abs(value) < 1e6:
@@ -191,8 +191,8 @@ def _default_text(entry, required, table_kind=False) -> str:
     if table_kind:
         return "optional table"
     if isinstance(default, (list, tuple)):
-        return "[" + ", ".join(_number(v) for v in default) + "]"
-    return _number(default)
+        return "[" + ", ".join(parse_number(v) for v in default) + "]"
+    return parse_number(default)
 
 
 def _range_text(param) -> str:
@@ -354,7 +354,7 @@ class SystemKeys(SphinxDirective):
             default = defaults.get(field_name, dataclasses.MISSING)
             required = declared.required if declared is not None \
                 else default is dataclasses.MISSING
-            default_text = "required" if required else _number(float(default))
+            default_text = "required" if required else parse_number(float(default))
             bound = RANGES.get(getattr(declared, "bound", "any"), "")
             what = self.WHAT.get(key)
             if what is None:

@@ -38,7 +38,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from polind.errors import InputError, describe
-from polind.identification import (FitResult, _holdout_split, _measurement, identify,
+from polind.identification import (FitResult, holdout_split, measured_data, identify,
                                    parse_fit)
 from polind.models import FrictionModel
 
@@ -279,8 +279,8 @@ def compare(models, data, holdout=None, *, progress=None, **options) -> Comparis
             parse_fit(model)
         except InputError as error:
             raise InputError(f"model '{label}': {error}") from None
-    record = _measurement(data)
-    fitted_samples = _holdout_split(holdout, record.size)
+    record = measured_data(data)
+    fitted_samples = holdout_split(holdout, record.size)
     results, rows = {}, []
     for done, (label, model) in enumerate(items, start=1):
         with warnings.catch_warnings(record=True) as caught:

@@ -54,7 +54,7 @@ except ImportError as error:    # the optional extra is not installed
                       "pip install polind[control]") from error
 
 from polind.errors import InputError, describe
-from polind.stepper import _check_model, _LoadCheck, _start_state
+from polind.stepper import check_model, LoadCheck, start_state
 from polind.validation import check_number
 
 __all__ = ["friction_system", "initial_state", "state_names", "CARRIED_STATES",
@@ -84,7 +84,7 @@ _REMEMBERED = 8
 
 def state_names(model) -> list:
     """The names of the system's states: the model's variables, then :data:`CARRIED_STATES`."""
-    _check_model(model, "state_names")
+    check_model(model, "state_names")
     rest = model.initial_state()
     names = []
     for key in model._state_keys():
@@ -131,12 +131,12 @@ def initial_state(model, state=None, *, position=None, velocity=None) -> np.ndar
     >>> initial_state(model).tolist()    # friction, position, velocity, started
     [0.0, 0.0, 0.0, 0.0]
     """
-    _check_model(model, "initial_state")
+    check_model(model, "initial_state")
     if state is not None:
         if position is not None or velocity is not None:
             raise InputError("Give initial_state either a 'state' or 'position'/'velocity', "
                              "not both: a state carries its own.")
-        flat = model.flat_state(_start_state(model, state, "initial_state"))
+        flat = model.flat_state(start_state(model, state, "initial_state"))
         expected = model.flat_state(model.initial_state()).shape[0]
         if flat.shape[0] != expected:
             raise InputError(f"The state of the {model.type} model has {flat.shape[0]} entries; "
@@ -238,7 +238,7 @@ def friction_system(model, dt, input="x", *, name=None):
     >>> bool(np.allclose(resp.outputs, force, rtol=1e-12, atol=0.0))
     True
     """
-    _check_model(model, "friction_system")
+    check_model(model, "friction_system")
     if isinstance(dt, bool) or not isinstance(dt, (int, float, np.integer, np.floating)) \
             or not (math.isfinite(float(dt)) and float(dt) > 0.0):
         raise InputError(f"The 'dt' of friction_system must be a positive finite number "
@@ -310,7 +310,7 @@ class _SampleStep:
             state = self.template.copy()
             self.model.unflatten_state(xs[:self.size], state)
             kernel = self.model.step_kernel(state)
-            check = _LoadCheck(self.model, state, "friction_system") if self.takes_load \
+            check = LoadCheck(self.model, state, "friction_system") if self.takes_load \
                 else None
             known = _KernelArrays(kernel.scalars, kernel.table, check)
             self._remember(key, known)

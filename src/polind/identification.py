@@ -165,7 +165,7 @@ def _columns(data) -> tuple[Mapping, list[str]]:
     return used, [str(name) for name in names if str(name) not in _DATA_KEYS]
 
 
-def _measurement(data, *, normal_load_ok: bool = True, model: FrictionModel | None = None,
+def measured_data(data, *, normal_load_ok: bool = True, model: FrictionModel | None = None,
                  notes: list | None = None) -> _Data:
     """Check the data (``t``, one of ``x``/``v``, ``F``, optional ``normal_load``).
 
@@ -204,7 +204,7 @@ def _measurement(data, *, normal_load_ok: bool = True, model: FrictionModel | No
             load = None
             if notes is not None:
                 hint = (" (give it a 'reference_load' to scale its friction with the load)"
-                        if _declaration(model, "reference_load") is not None else "")
+                        if model.declaration("reference_load") is not None else "")
                 notes.append(f"The 'normal_load' column is not used: the {model.type} model "
                              f"ignores a normal load{hint}.")
     if unused and notes is not None:
@@ -322,22 +322,6 @@ def _default_range(declaration: Param, start: np.ndarray, scales: _Scales):
 
 
 # --- free keys, bounds and their mapping to the optimiser's variables -------------------------
-
-def _declaration(model: FrictionModel, key: str):
-    """The Param declared for a (dotted) key, or None."""
-    entries = model.parameters
-    parts = key.split(".")
-    for depth, part in enumerate(parts):
-        found = next((entry for entry in entries if entry.key == part), None)
-        if found is None:
-            return None
-        if depth == len(parts) - 1:
-            return found
-        if not isinstance(found, Table):
-            return None
-        entries = found.entries
-    return None
-
 
 def _fittable_keys(model: FrictionModel) -> list[str]:
     def walk(entries, prefix):
@@ -458,7 +442,7 @@ def _free_keys(model: FrictionModel, free) -> list[str]:
                              f"Got {describe(key)} instead.")
         if key in keys:
             raise InputError(f"The free key '{key}' appears twice in the 'free' list of [fit].")
-        declaration = _declaration(model, key)
+        declaration = model.declaration(key)
         if declaration is None:
             raise InputError(f"The free key '{key}' is not a parameter of the {model.type} "
                              f"model; expected one of: {', '.join(_fittable_keys(model))}.")
@@ -520,7 +504,7 @@ def _bounds(model: FrictionModel, keys: list[str], bounds) -> dict[str, tuple[fl
     pairs = {key: _pair(key, value) for key, value in flat.items()}
     params = model.params
     for key, (low, high) in pairs.items():
-        declaration = _declaration(model, key)
+        declaration = model.declaration(key)
         if declaration is not None and declaration.bound in ("positive", "nonnegative") \
                 and low < 0.0:
             raise InputError(f"The bounds of '{key}' in [fit.bounds] must have low >= 0: the "
@@ -544,7 +528,7 @@ def _build_free(model: FrictionModel, keys, bounds, data: _Data,
     scales = _Scales.of(data)
     frees = []
     for key in keys:
-        declaration: Param = _declaration(model, key)
+        declaration: Param = model.declaration(key)
         value = _get(params, key)
         is_list = isinstance(value, list)
         start = np.atleast_1d(np.asarray(value, dtype=np.float64))
@@ -635,7 +619,7 @@ def default_bounds(model, data, *, free=None) -> dict[str, tuple[float, float]]:
     {'coulomb_force': (0.002, 20.0)}
     """
     start, keys, _ = parse_fit(model, free=free)
-    measured = _measurement(data, model=start)
+    measured = measured_data(data, model=start)
     return {free.key: (float(free.low), float(free.high))
             for free in _build_free(start, keys, {}, measured)}
 
@@ -966,7 +950,7 @@ def fit_bytes_per_sample(model: FrictionModel, free) -> float:
     return _FIT_BYTES + _FIT_BYTES_PER_THREAD * threads + _FIT_BYTES_PER_VALUE * values
 
 
-def _holdout_split(holdout, size: int) -> int | None:
+def holdout_split(holdout, size: int) -> int | None:
     """The number of fitted samples for a hold-out fraction (None: fit them all)."""
     if holdout is None:
         return None
@@ -1123,8 +1107,8 @@ def identify(model, data, *, free=None, bounds=None, holdout=None, max_evaluatio
                          f"step). Got {diff_step!r} instead.")
     start, keys, given_bounds = parse_fit(model, free=free, bounds=bounds)
     notes = []
-    record = _measurement(data, model=start, notes=notes)
-    fitted_samples = _holdout_split(holdout, record.size)
+    record = measured_data(data, model=start, notes=notes)
+    fitted_samples = holdout_split(holdout, record.size)
     measured = record if fitted_samples is None else record.head(fitted_samples)
     frees = _build_free(start, keys, given_bounds, measured, notes)
     n_variables = sum(f.size for f in frees)
@@ -1310,7 +1294,7 @@ def identify_maxwell_slip(data, slip_distances=None, n=24, *, viscous=False):
     """
     from scipy.optimize import nnls
 
-    measured = _measurement(data, normal_load_ok=False)
+    measured = measured_data(data, normal_load_ok=False)
     path = measured.path()
     grid = _slip_grid(path, slip_distances, n)
     columns = grid.size + bool(viscous)
@@ -1377,7 +1361,7 @@ def identify_gms(data, slip_distances=None, n=24, *, model=None):
         p = model.params
         ratio = p["static_force"] / p["coulomb_force"]
         return model.with_params(**elements, coulomb_force=total, static_force=total * ratio)
-    measured = _measurement(data, normal_load_ok=False)
+    measured = measured_data(data, normal_load_ok=False)
     speed = np.abs(measured.path().sample_velocity)
     typical = float(np.median(speed[speed > 0.0]))
     return model_from_dict({"model": {"type": "gms", **elements,
@@ -1503,7 +1487,7 @@ def plot_fit(data, results, path, *, window=None, title=None, dpi=120) -> None:
 
     from polind import io
 
-    measured = _measurement(data)
+    measured = measured_data(data)
     labelled = _labelled(results)
     position = measured.path().x
     t = measured.t

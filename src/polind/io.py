@@ -106,7 +106,7 @@ def _reject_duplicate_keys(pairs):
     return table
 
 
-def _read_document(path) -> dict:
+def read_document(path) -> dict:
     """Parse a TOML or JSON file (JSON if the name ends in ``.json``) into a dict."""
     name = os.fspath(path)
     text = _read_text(path)
@@ -128,7 +128,7 @@ def _read_document(path) -> dict:
         raise InputError(f"{name}: not valid TOML: {exc}") from None
 
 
-def _check_tables(name, document, required, allowed):
+def check_tables(name, document, required, allowed):
     """Top-level keys: each required one present and a table, none unknown."""
     for key in document:
         if key not in allowed:
@@ -176,8 +176,8 @@ def read_model_file(path) -> dict:
     {'model': {'type': 'coulomb', 'coulomb_force': 1.0}}
     """
     name = os.fspath(path)
-    document = _read_document(path)
-    _check_tables(name, document, required=("model",), allowed=("model", "fit"))
+    document = read_document(path)
+    check_tables(name, document, required=("model",), allowed=("model", "fit"))
     # Files a model names are relative to the model file.  A value that is
     # not a string is the model's to reject.
     folder = os.path.dirname(os.path.abspath(name))
@@ -808,8 +808,8 @@ def read_system_file(path) -> dict:
     >>> read_system_file(system)["force"]
     {'amplitude': 0.4, 'frequency': 1.0}
     """
-    document = _read_document(path)
-    _check_tables(os.fspath(path), document, required=("system",), allowed=("system",))
+    document = read_document(path)
+    check_tables(os.fspath(path), document, required=("system",), allowed=("system",))
     return document["system"]
 
 
@@ -906,7 +906,7 @@ def _removing_on_signals():
 
 
 @contextlib.contextmanager
-def _atomic_open(path, binary=False):
+def atomic_open(path, binary=False):
     """Yield a stream for the output ``path``; a regular file appears only on success.
 
     * ``-``: standard output.
@@ -963,13 +963,13 @@ def _atomic_open(path, binary=False):
 
 def atomic_write_bytes(path, data: bytes) -> None:
     """Write ``data`` to ``path`` atomically: all of it, or nothing changes."""
-    with _atomic_open(path, binary=True) as stream:
+    with atomic_open(path, binary=True) as stream:
         stream.write(data)
 
 
 def atomic_write_text(path, text: str) -> None:
     """Write ``text`` (UTF-8, ``\\n`` newlines) to ``path`` atomically."""
-    with _atomic_open(path) as stream:
+    with atomic_open(path) as stream:
         stream.write(text)
 
 
@@ -1022,7 +1022,7 @@ def write_csv_atomic(path, columns, progress=None) -> None:
         _write_parquet(path, names, arrays, progress)
         return
     rows = arrays[0].shape[0] if arrays else 0
-    with _atomic_open(path) as stream:
+    with atomic_open(path) as stream:
         stream.write(",".join(names) + "\n")
         done = 0
         for text in _format_rows(arrays):
@@ -1052,7 +1052,7 @@ def _write_parquet(path, names, arrays, progress=None):
 
     table = pa.table(dict(zip(names, arrays)))
     rows = table.num_rows
-    with _atomic_open(path, binary=True) as stream:
+    with atomic_open(path, binary=True) as stream:
         with pq.ParquetWriter(stream, table.schema) as writer:
             for start in range(0, max(rows, 1), _PARQUET_ROWS):
                 writer.write_table(table.slice(start, _PARQUET_ROWS))
@@ -1086,10 +1086,10 @@ def _format_rows(table, rows_per_chunk=None):
         return
     for start in range(0, rows, rows_per_chunk):
         chunk = [column[start:start + rows_per_chunk].tolist() for column in columns]
-        yield "".join(",".join(map(_number_text, row)) + "\n" for row in zip(*chunk))
+        yield "".join(",".join(map(number_text, row)) + "\n" for row in zip(*chunk))
 
 
-def _number_text(value: float) -> str:
+def number_text(value: float) -> str:
     """The shortest decimal that reads back to ``value``, laid out as pyarrow writes it.
 
     Python's ``repr`` gives the shortest digits; pyarrow writes them in

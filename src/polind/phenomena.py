@@ -257,7 +257,7 @@ def _result(phenomenon, levels, passed, metrics, settings, data, note=""):
                             _expected(phenomenon, levels), metrics, settings, data, note)
 
 
-def _velocity_scale(levels: FrictionLevels) -> float:
+def velocity_scale(levels: FrictionLevels) -> float:
     """vs, or 1 mm/s for a model without a Stribeck curve (the default Pol-Ind vs)."""
     return levels.stribeck_velocity if levels.stribeck_velocity is not None else 1e-3
 
@@ -314,7 +314,7 @@ def stribeck_effect(model, *, decades=3.0, points=49) -> PhenomenonResult:
     (True, 1.5)
     """
     levels = friction_levels(model)
-    vs = _velocity_scale(levels)
+    vs = velocity_scale(levels)
     velocity = vs * np.logspace(-decades, decades, points)
     force = np.array([_steady_force(model, levels, v) for v in velocity])
     curve_velocity = vs * np.logspace(-decades, decades, 400)
@@ -424,7 +424,7 @@ def presliding_memory(model, *, amplitude=None, speed=None) -> PhenomenonResult:
                              f"{model.type} model has none (give an 'amplitude' in m).")
         amplitude = 0.8 * levels.presliding_range
     amplitude = float(amplitude)
-    speed = 1e-3 * _velocity_scale(levels) if speed is None else float(speed)
+    speed = 1e-3 * velocity_scale(levels) if speed is None else float(speed)
     t, x, grid, corners = _polyline(MEMORY_PATH, amplitude, speed)
     force = simulate(model, t, x=x).force
     closures = []
@@ -474,7 +474,7 @@ def _nice(value):
     return min((1.0, 2.0, 5.0, 10.0), key=lambda m: abs(math.log(mantissa / m))) * 10.0 ** exponent
 
 
-def _loop_area(velocity, force):
+def cycle_area(velocity, force):
     """The signed area ``closed integral of F dv`` of one loop [N m/s] (trapezoid).
 
     Positive when the loop circulates in the lag direction: higher force
@@ -535,7 +535,7 @@ def frictional_lag(model, *, frequencies=None, mean_velocity=None, velocity_ampl
         with the frequency.
     """
     levels = friction_levels(model)
-    vs = _velocity_scale(levels)
+    vs = velocity_scale(levels)
     v0 = vs if mean_velocity is None else float(mean_velocity)
     va = 0.9 * v0 if velocity_amplitude is None else float(velocity_amplitude)
     lag = levels.lag_time(v0)
@@ -572,7 +572,7 @@ def frictional_lag(model, *, frequencies=None, mean_velocity=None, velocity_ampl
         velocity = v0 + va * np.sin(2.0 * math.pi * frequency * t)
         res = simulate(model, t, v=velocity)
         last = slice(len(t) - per_period - 1, len(t))
-        areas.append(_loop_area(res.v[last], res.force[last]))
+        areas.append(cycle_area(res.v[last], res.force[last]))
         thin = max(1, per_period // plot_points)
         loops.append((res.v[last][::thin], res.force[last][::thin]))
     relative = [area / (2.0 * va * levels.static_force) for area in areas]
@@ -786,7 +786,7 @@ def stick_slip(model, *, low_velocity=None, high_velocity=None) -> PhenomenonRes
     """
     levels = friction_levels(model)
     fc = levels.coulomb_force
-    vs = _velocity_scale(levels)
+    vs = velocity_scale(levels)
     mass = _body_mass(levels)
     low_velocity = vs if low_velocity is None else float(low_velocity)
     high_velocity = 100.0 * vs if high_velocity is None else float(high_velocity)
@@ -854,7 +854,7 @@ def breakaway(model, *, ramp_times=None, threshold_velocity=None, steps=15000) -
     fs = levels.static_force
     mass = _body_mass(levels)
     period = _presliding_period(levels, mass)
-    threshold = _velocity_scale(levels) if threshold_velocity is None else float(threshold_velocity)
+    threshold = velocity_scale(levels) if threshold_velocity is None else float(threshold_velocity)
     if ramp_times is None:
         # The slowest ramp must be quasi-static for the body too: after break-away
         # it needs about sqrt(2 m v_threshold / rate) to reach the threshold, while

@@ -33,13 +33,13 @@ __all__ = ["Stepper", "Body"]
 _INF = math.inf
 
 
-def _check_model(model, owner):
+def check_model(model, owner):
     if not isinstance(model, FrictionModel):
         raise InputError(f"The 'model' of {owner} must be a polind friction model (load_model "
                          f"or model_from_dict). Got {describe(model)} instead.")
 
 
-def _start_state(model, state, owner):
+def start_state(model, state, owner):
     if state is None:
         return model.initial_state()
     if not isinstance(state, State):
@@ -49,7 +49,7 @@ def _start_state(model, state, owner):
     return state.copy()
 
 
-class _LoadCheck:
+class LoadCheck:
     """The normal loads a model accepts, checked per sample without building arrays.
 
     A model that ignores a load signal (no ``reference_load``) says so once
@@ -138,11 +138,11 @@ class Stepper:
     """
 
     def __init__(self, model, state=None, time=0.0, position=0.0, velocity=0.0):
-        _check_model(model, "Stepper")
+        check_model(model, "Stepper")
         time = check_number("Stepper", "time", time)
         position = check_number("Stepper", "position", position)
         velocity = check_number("Stepper", "velocity", velocity)
-        start = _start_state(model, state, "Stepper")
+        start = start_state(model, state, "Stepper")
         if state is not None:
             # A state carries its own sample: other values than the defaults must agree.
             for name, given, own in (("time", time, state.time),
@@ -165,7 +165,7 @@ class Stepper:
         self._path_load = kernel.normal_load
         self._scalars, self._table, self._flat = kernel.scalars, kernel.table, kernel.state
         self._load = kernel.normal_load
-        self._check_load = _LoadCheck(model, start, "Stepper")
+        self._check_load = LoadCheck(model, start, "Stepper")
         if state is not None:
             self._time, self._position = state.time, state.position
             self._velocity, self._force = state.velocity, state.force
@@ -321,7 +321,7 @@ class Body:
                  state=None, method="bdf2"):
         from polind.dynamics import METHODS, initial_friction
 
-        _check_model(model, "Body")
+        check_model(model, "Body")
         mass = check_number("Body", "mass", mass, "positive")
         time_step = check_number("Body", "time_step", time_step, "positive")
         if method not in METHODS:
@@ -329,7 +329,7 @@ class Body:
                              f"Got {describe(method)} instead.")
         position = check_number("Body", "position", position)
         velocity = check_number("Body", "velocity", velocity)
-        start = _start_state(model, state, "Body")
+        start = start_state(model, state, "Body")
         kernel = model.step_kernel(start, varying_load=True)
         self._model = model
         self._template = start
@@ -342,7 +342,7 @@ class Body:
         self._memoryless = kernel.rest_capacity is not None
         self._rest_capacity = kernel.rest_capacity if self._memoryless else 0.0
         self._scratch = kernel.scratch
-        self._check_load = _LoadCheck(model, start, "Body")
+        self._check_load = LoadCheck(model, start, "Body")
         self._last_load = kernel.normal_load
         friction = initial_friction(kernel, velocity, 0.0)
         # [x_n, v_n, v_{n-1}, w_n, history, friction]: what the next step needs.

@@ -61,11 +61,10 @@ from polind import io
 from polind.dynamics import (BYTES_PER_SAMPLE, FILE_KEYS, System, file_keys_of,
                              simulate_system, system_from_keys)
 from polind.errors import InputError, describe
-from polind.identification import _declaration
-from polind.io import _atomic_open, _number_text
+from polind.io import atomic_open, number_text
 from polind.models import FrictionModel, model_from_dict
 from polind.models.params import Table
-from polind.phenomena import _loop_area, _velocity_scale, friction_levels
+from polind.phenomena import cycle_area, velocity_scale, friction_levels
 from polind.resources import check_memory
 from polind.simulate import simulate
 
@@ -274,7 +273,7 @@ def _advance_per_cycle(run):
                             "exceeds the model's Stribeck velocity (1 mm/s for a model without "
                             "one); NaN if it never does")
 def _breakaway_force(run):
-    threshold = _velocity_scale(friction_levels(run.model))
+    threshold = velocity_scale(friction_levels(run.model))
     moving = np.flatnonzero(np.abs(run.v) > threshold)
     return float(run.applied[moving[0]]) if moving.size else math.nan
 
@@ -295,7 +294,7 @@ def _loop_area_metric(run):
     if up.size < 2:
         return math.nan
     start, stop = int(up[-2]), int(up[-1])
-    return _loop_area(v[start:stop + 1], force[start:stop + 1])
+    return cycle_area(v[start:stop + 1], force[start:stop + 1])
 
 
 # --- the system table -----------------------------------------------------------------------
@@ -616,7 +615,7 @@ class Sweep:
         label = _parameter_label(key)
         root, _, rest = str(key).partition(".")
         if root == "model" and rest:
-            declaration = _declaration(self.model, rest)
+            declaration = self.model.declaration(rest)
             if declaration is None or isinstance(declaration, Table):
                 known = _model_keys(self.model)
                 close = difflib.get_close_matches(key, known, n=1)
@@ -727,11 +726,11 @@ def load_sweep(path) -> Sweep:
     Relative file names in it point from the sweep file's directory.  Every
     problem raises :class:`polind.InputError` naming the file and the key.
     """
-    from polind.io import _check_tables, _read_document
+    from polind.io import check_tables, read_document
 
     name = os.fspath(path)
-    document = _read_document(path)
-    _check_tables(name, document, required=("sweep",), allowed=("sweep",))
+    document = read_document(path)
+    check_tables(name, document, required=("sweep",), allowed=("sweep",))
     table = document["sweep"]
     for key in table:
         if key not in _SWEEP_KEYS:
@@ -970,7 +969,7 @@ class _Results:
         if new:
             writer.writerow(self.columns)
         for row in self.pending:
-            writer.writerow([_number_text(row[key]) if isinstance(row[key], float)
+            writer.writerow([number_text(row[key]) if isinstance(row[key], float)
                              else str(row[key]) for key in self.columns])
         if new:
             io.atomic_write_text(self.path, buffer.getvalue())
@@ -995,7 +994,7 @@ class _Results:
         ordered = [self.rows[index] for index in sorted(self.rows)]
         table = pa.table({key: [row[key] for row in ordered] for key in self.columns},
                          schema=schema)
-        with _atomic_open(self.path, binary=True) as stream:
+        with atomic_open(self.path, binary=True) as stream:
             pq.write_table(table, stream)
 
     def table(self) -> dict:

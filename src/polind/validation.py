@@ -18,7 +18,7 @@ from polind.errors import InputError, describe
 
 __all__ = ["check_number"]
 
-_BOUNDS = {
+BOUNDS = {
     "positive": (lambda x: x > 0.0, "positive"),
     "nonnegative": (lambda x: x >= 0.0, "non-negative"),
     "any": (lambda x: True, "finite"),
@@ -29,7 +29,7 @@ _BOUNDS = {
 
 
 @dataclass
-class _Context:
+class Context:
     model_type: str
     prefix: str = ""
 
@@ -43,13 +43,13 @@ class _Context:
 
 @dataclass(frozen=True)
 class _Bounded:
-    """A key and its bound: what :func:`_check_bound` reads of a ``Param``."""
+    """A key and its bound: what :func:`check_bound` reads of a ``Param``."""
 
     key: str
     bound: str = "positive"
 
 
-def _number(ctx, key, value, integer=False, index=None):
+def parse_number(ctx, key, value, integer=False, index=None):
     where = "" if index is None else f" at index {index}"
     if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
         ctx.fail(key, "an integer" if integer else "a number", value, where)
@@ -66,9 +66,9 @@ def _number(ctx, key, value, integer=False, index=None):
     return number
 
 
-def _check_bound(ctx, param, number, index=None):
-    """``param`` has a ``key`` and a ``bound`` (a key of ``_BOUNDS``): a ``Param`` or ``_Bounded``."""
-    test, text = _BOUNDS[param.bound]
+def check_bound(ctx, param, number, index=None):
+    """``param`` has a ``key`` and a ``bound`` (a key of ``BOUNDS``): a ``Param`` or ``_Bounded``."""
+    test, text = BOUNDS[param.bound]
     if not test(number):
         where = "" if index is None else f" at index {index}"
         ctx.fail(param.key, text, number, where)
@@ -90,10 +90,10 @@ def check_number(owner, key, value, bound="any", *, integer=False, maximum=None)
     ...
     polind.errors.InputError: The 'surface.height_std' parameter of pol-ind must be positive. Got 0.0 instead.
     """
-    ctx = _Context(owner)
-    number = _number(ctx, key, value, integer=integer)
+    ctx = Context(owner)
+    number = parse_number(ctx, key, value, integer=integer)
     number = int(number) if integer else number
-    _check_bound(ctx, _Bounded(key, bound=bound), number)
+    check_bound(ctx, _Bounded(key, bound=bound), number)
     if maximum is not None and number > maximum:
         ctx.fail(key, f"at most {maximum}", value)
     return int(number) if integer else number

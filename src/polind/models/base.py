@@ -450,6 +450,23 @@ class FrictionModel:
         self._params = clean
 
     @classmethod
+    def declaration(cls, key: str):
+        """The :class:`~polind.models.params.Param` (or ``Table``) declared for a key, or None.
+
+        Nested keys are named with a dot (``"surface.height_std"``).
+        """
+        entries = cls.parameters
+        parts = key.split(".")
+        for depth, part in enumerate(parts):
+            found = next((entry for entry in entries if entry.key == part), None)
+            if found is None or depth == len(parts) - 1:
+                return found
+            if not isinstance(found, Table):
+                return None
+            entries = found.entries
+        return None
+
+    @classmethod
     def _check(cls, params: dict) -> None:
         """Rules that span several parameters (equal lengths, sums)."""
 

@@ -19,7 +19,7 @@ from polind.errors import InputError, describe
 
 # The number checks and their message template live in the bottom layer, so
 # that the contact mechanics can use them too; re-exported here.
-from polind.validation import _BOUNDS, _check_bound, _Context, _number, check_number  # noqa: F401
+from polind.validation import BOUNDS, check_bound, Context, parse_number, check_number  # noqa: F401
 
 REQUIRED = object()
 
@@ -71,14 +71,14 @@ def _validate_value(ctx, param, value):
             ctx.fail(param.key, "a list of two numbers (one per body)", value)
         numbers = []
         for index, item in enumerate(value):
-            number = _number(ctx, param.key, item, index=index)
-            _check_bound(ctx, param, number, index)
+            number = parse_number(ctx, param.key, item, index=index)
+            check_bound(ctx, param, number, index)
             numbers.append(number)
         return numbers
-    number = _number(ctx, param.key, value, integer=param.kind == "int")
+    number = parse_number(ctx, param.key, value, integer=param.kind == "int")
     if param.kind == "int":
         number = int(number)
-    _check_bound(ctx, param, number)
+    check_bound(ctx, param, number)
     return number
 
 
@@ -89,7 +89,7 @@ def validate_table(model_type, entries, table, prefix=""):
     out-of-range values raise :class:`~polind.InputError` naming the key.  Defaults
     fill the keys that have one.
     """
-    ctx = _Context(model_type, prefix)
+    ctx = Context(model_type, prefix)
     if not isinstance(table, dict):
         raise InputError(f"The '{prefix.rstrip('.') or 'model'}' table of {model_type} must be "
                          f"a table of parameters. Got {describe(table)} instead.")
