@@ -37,51 +37,18 @@ STIFFNESS = [1e5, 5e4, 2e4, 1e4]                 # N/m
 BREAKAWAY = [0.2, 0.3, 0.25, 0.25]               # N, sum 1.0
 WEIGHT = [0.2, 0.3, 0.25, 0.25]
 
-REPRESENTATIVE = {
-    "coulomb": {"type": "coulomb", "coulomb_force": 1.0},
-    "stribeck": {
-        "type": "stribeck",
-        "coulomb_force": 1.0,
-        "static_force": 1.5,
-        "stribeck_velocity": 1e-3,
-        "stribeck_exponent": 2.0,
-        "viscous_coefficient": 0.4,
-        "stribeck_shape": "exponential",
-    },
-    "dahl": {"type": "dahl", "stiffness": 1e5, "coulomb_force": 1.0, "exponent": 1.0},
-    "lugre": LUGRE_1995,
-    "maxwell-slip": {
-        "type": "maxwell-slip",
-        "stiffness": STIFFNESS,
-        "breakaway_force": BREAKAWAY,
-        "viscous_coefficient": 0.4,
-    },
-    "gms": {
-        "type": "gms",
-        "stiffness": STIFFNESS,
-        "weight": WEIGHT,
-        "attraction": 50.0,
-        "coulomb_force": 1.0,
-        "static_force": 1.5,
-        "stribeck_velocity": 1e-3,
-        "stribeck_exponent": 2.0,
-        "viscous_coefficient": 0.4,
-        "stribeck_shape": "exponential",
-    },
-    "leuven": {
-        "type": "leuven",
-        "stiffness": STIFFNESS,
-        "breakaway_force": [0.3, 0.45, 0.375, 0.375],   # sum = Fs = 1.5
-        "exponent": 2.0,
-        "bristle_damping": 100.0,
-        "viscous_coefficient": 0.4,
-        "coulomb_force": 1.0,
-        "static_force": 1.5,
-        "stribeck_velocity": 1e-3,
-        "stribeck_exponent": 2.0,
-        "stribeck_shape": "exponential",
-    },
-}
+def _registered_examples() -> dict:
+    """Each registered model's own representative set (``FrictionModel.example_parameters``),
+    as a model dictionary; models built from contact mechanics (Pol-Ind) are tested with
+    their own sets, being slower to build."""
+    from polind.models import MODEL_TYPES as registered
+
+    return {name: {"type": name, **cls.example_parameters()}
+            for name, cls in registered.items() if not cls.has_contact}
+
+
+#: The representative parameter set of every model type, from the models themselves.
+REPRESENTATIVE = _registered_examples()
 
 MODEL_TYPES = list(REPRESENTATIVE)
 

@@ -18,24 +18,9 @@ from conftest import MODEL_TYPES, REPRESENTATIVE, lib, representative, run, wobb
 
 SPLIT_REL = 1e-10
 
-#: The default Pol-Ind parameter set of INTERFACE.md (a steel pair under 100 N).
-POL_IND_DEFAULT = {
-    "type": "pol-ind",
-    "normal_load": 100.0,
-    "static_coefficient": 0.15,
-    "kinetic_coefficient": 0.10,
-    "stribeck_velocity": 1e-3,
-    "stribeck_exponent": 2.0,
-    "attraction": 1e4,
-    "viscous_coefficient": 0.0,
-    "surface": {"asperity_density": 1e10, "nominal_area": 1e-4,
-                "asperity_radius": 50e-6, "height_std": 0.5e-6},
-    "materials": {"youngs_modulus": [210e9, 210e9], "poisson_ratio": [0.3, 0.3]},
-    "discretisation": {"summation": "statistical", "elements": 64},
-}
-
 #: Every model type of INTERFACE.md runs the conformance checks.
-CONFORMANCE_SETS = dict(REPRESENTATIVE, **{"pol-ind": POL_IND_DEFAULT})
+CONFORMANCE_SETS = {name: {"type": name, **cls.example_parameters()}
+                    for name, cls in polind.MODEL_TYPES.items()}
 
 
 def force_scale(inner):
@@ -370,9 +355,53 @@ def test_defaults_equal_explicit_values(model_type):
     np.testing.assert_array_equal(run(bare, t, x=x).force, run(full, t, x=x).force)
 
 
-def test_representative_sets_cover_every_classical_type():
+def test_every_type_of_the_formats_page_is_registered_and_conformance_tested():
     assert set(REPRESENTATIVE) == {"coulomb", "stribeck", "dahl", "lugre", "maxwell-slip",
                                    "gms", "leuven"}
+    assert set(CONFORMANCE_SETS) == set(REPRESENTATIVE) | {"pol-ind"}
+
+
+#: The default Pol-Ind parameter set as the formats page states it (a steel pair under 100 N).
+POL_IND_DEFAULT = {
+    "type": "pol-ind",
+    "normal_load": 100.0,
+    "static_coefficient": 0.15,
+    "kinetic_coefficient": 0.10,
+    "stribeck_velocity": 1e-3,
+    "stribeck_exponent": 2.0,
+    "attraction": 1e4,
+    "viscous_coefficient": 0.0,
+    "surface": {"asperity_density": 1e10, "nominal_area": 1e-4,
+                "asperity_radius": 50e-6, "height_std": 0.5e-6},
+    "materials": {"youngs_modulus": [210e9, 210e9], "poisson_ratio": [0.3, 0.3]},
+    "discretisation": {"summation": "statistical", "elements": 64},
+}
+
+
+def test_the_pol_ind_example_is_the_documented_default_set():
+    """``PolInd.example()`` is the set the formats page and ``polind demo`` promise."""
+    assert polind.models.PolInd.example() == polind.model_from_dict({"model": POL_IND_DEFAULT})
+
+
+@pytest.mark.parametrize("model_type", sorted(CONFORMANCE_SETS))
+def test_every_model_owns_its_documentation_facts(model_type):
+    """Title, purpose, guide section and a description of every key, asked of the class."""
+    cls = polind.MODEL_TYPES[model_type]
+    assert cls.title and cls.purpose and cls.guide.startswith("guide-")
+
+    def walk(entries, prefix=""):
+        for entry in entries:
+            assert entry.description, f"{model_type}: '{prefix}{entry.key}' has no description"
+            if hasattr(entry, "entries"):
+                walk(entry.entries, f"{prefix}{entry.key}.")
+    walk(cls.parameters)
+
+
+@pytest.mark.parametrize("model_type", [name for name, cls in polind.MODEL_TYPES.items()
+                                        if cls.has_elements and not cls.has_contact])
+def test_an_example_of_n_elements_has_n_elements(model_type):
+    model = polind.MODEL_TYPES[model_type].example(elements=5)
+    assert len(model.params["stiffness"]) == 5
 
 
 OUT_OF_RANGE = [   # (model type, key, value): outside the domains of MODELS.md 0-6

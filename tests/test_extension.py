@@ -92,7 +92,7 @@ PARAMS = {"stiffness": 2e4, "coulomb_force": 1.5, "smoothing_velocity": 2e-3}
 def registered():
     polind.register_model(SmoothDahl)
     yield SmoothDahl
-    del polind.MODEL_TYPES[SmoothDahl.type]
+    polind.unregister_model(SmoothDahl.type)
 
 
 def _motion(n=800):

@@ -21,7 +21,7 @@ def demo():
     """The demo's models by label: Pol-Ind, LuGre, GMS, Maxwell-slip."""
     from polind.demo import demo_models
 
-    return demo_models()
+    return {label: model for label, (model, _) in demo_models().items()}
 
 
 @pytest.fixture(scope="session")

@@ -46,120 +46,6 @@ from sphinx.util.nodes import nested_parse_with_titles
 
 logger = logging.getLogger(__name__)
 
-# --- what each key means ---------------------------------------------------------------------
-#
-# Keyed by the dotted key; ``(type, key)`` overrides where one model gives a key another
-# meaning.  Units, defaults and ranges are NOT written here: they come from the
-# declarations.
-
-DESCRIPTIONS = {
-    "coulomb_force": r"Coulomb (kinetic) friction level :math:`F_c`: the force of steady "
-                     r"sliding well above the Stribeck velocity.",
-    "static_force": r"Static friction level :math:`F_s`, the Stribeck curve at rest; "
-                    r":math:`F_s < F_c` makes the friction velocity-strengthening.",
-    "stribeck_velocity": r"Stribeck velocity :math:`v_s`: the speed over which the force "
-                         r"falls from the static to the kinetic level.",
-    "stribeck_exponent": r"Stribeck exponent :math:`\delta` of the curve's shape.",
-    "stribeck_shape": r'Shape of the Stribeck curve: ``"exponential"`` '
-                      r':math:`e^{-|v/v_s|^\delta}` or ``"rational"`` '
-                      r":math:`1/(1 + |v/v_s|^\delta)` (:ref:`guide-stribeck-curve`).",
-    "viscous_coefficient": r"Viscous coefficient :math:`\sigma_2`: the force "
-                           r":math:`\sigma_2 v` added to the friction (never scaled by a "
-                           r"normal load).",
-    "reference_load": r"Reference normal load :math:`N_0`: the load the force levels were "
-                      r"measured at. With it, a normal-load signal scales the force "
-                      r"(:ref:`guide-normal-load`); without it the signal is ignored.",
-    "compliance": r"Optional table: a linear spring in series with the contact "
-                  r"(:ref:`guide-series-compliance`).",
-    "compliance.stiffness": r"Series stiffness :math:`k_s` of the rig, holders and bodies.",
-    ("dahl", "stiffness"): r"Dahl stiffness :math:`\sigma_0`: the slope of the force "
-                           r"against displacement after a reversal.",
-    ("dahl", "exponent"): r"Dahl exponent :math:`\alpha`: the shape of the approach to "
-                          r":math:`F_c` (1 gives the exponential).",
-    "bristle_stiffness": r"Bristle stiffness :math:`\sigma_0`: the presliding stiffness.",
-    "bristle_damping": r"Bristle damping :math:`\sigma_1`: the force "
-                       r":math:`\sigma_1 \dot z` of the bristle's deflection rate.",
-    ("maxwell-slip", "stiffness"): r"Element stiffnesses :math:`k_i`, one per element.",
-    ("maxwell-slip", "breakaway_force"): r"Element break-away forces :math:`W_i`, one per "
-                                         r"element; the largest friction force is "
-                                         r":math:`\sum_i W_i`.",
-    ("gms", "stiffness"): r"Element stiffnesses :math:`k_i`, one per element.",
-    ("gms", "weight"): r"Element weights :math:`\alpha_i`, each element's share of the "
-                       r"Stribeck curve; positive, summing to 1 within :math:`10^{-9}`.",
-    "attraction": r"Attraction parameter :math:`C`: how fast a slipping element's force "
-                  r"approaches its share of the Stribeck curve.",
-    ("leuven", "stiffness"): r"Stiffnesses :math:`k_i` of the hysteresis elements.",
-    ("leuven", "breakaway_force"): r"Break-away forces :math:`W_i` of the hysteresis "
-                                   r"elements, summing to ``static_force`` within "
-                                   r":math:`10^{-9}`.",
-    ("leuven", "exponent"): r"Exponent :math:`n` of the state equation.",
-    "normal_load": r"Normal load :math:`N` pressing the surfaces together; a "
-                   r"``normal_load`` signal replaces it sample by sample.",
-    "static_coefficient": r"Static friction coefficient :math:`\mu_s`: break-away at "
-                          r":math:`\mu_s N`.",
-    "kinetic_coefficient": r"Kinetic friction coefficient :math:`\mu_k`: sliding at "
-                           r":math:`\mu_k N` well above :math:`v_s`.",
-    "surface": r"The rough surface (:ref:`guide-pol-ind-surface`).",
-    "surface.asperity_density": r"Summit density :math:`\eta`, summits per unit nominal "
-                                r"area. Required unless the summits come from a file.",
-    "surface.nominal_area": r"Nominal (apparent) contact area :math:`A_0`. Required unless "
-                            r"the summits come from a file; with a measured ``topography``, "
-                            r"optional (default: the map's own area).",
-    "surface.asperity_radius": r"Summit radius :math:`R`, the same for every summit of a "
-                               r"Gaussian surface.",
-    "surface.height_std": r"Standard deviation :math:`\sigma_a` of the summit heights. "
-                          r"Required unless the summits come from a file.",
-    "surface.topography": r"A measured height map (any format SurfaceTopography reads, or "
-                          r"a ``.npy`` / ``.csv`` grid), relative to the model file: the "
-                          r"summits, their heights and radii come from it "
-                          r"(:ref:`guide-measured-surfaces`).",
-    "surface.pixel_size": r"Grid spacings :math:`[\Delta x, \Delta y]` of a ``.npy`` or "
-                          r"``.csv`` height map (other formats carry their own).",
-    "surface.short_cutoff": r"Optional Gaussian low-pass (ISO 16610-61) of the height map "
-                            r"before the summits are found: the wavelength passed at 50 %.",
-    "materials": r"The two bodies' elastic constants (:ref:`guide-pol-ind-surface`).",
-    "materials.youngs_modulus": r"Young's moduli :math:`[E_1, E_2]` of the two bodies.",
-    "materials.poisson_ratio": r"Poisson's ratios :math:`[\nu_1, \nu_2]` of the two bodies.",
-    "discretisation": r"How the surface becomes elements (:ref:`guide-pol-ind-elements`).",
-    "discretisation.summation": r'``"statistical"`` (height bins of the Gaussian) or '
-                                r'``"direct"`` (one element per summit).',
-    "discretisation.elements": r"Statistical summation: the number of height bins "
-                               r"(elements).",
-    "discretisation.seed": r"Direct summation: the seed of the random summit heights drawn "
-                           r"from the Gaussian.",
-    "discretisation.heights_file": r"Direct summation: a CSV file of measured summit "
-                                   r"heights (column ``h``, m), relative to the model file; "
-                                   r"replaces ``asperity_density``, ``nominal_area`` and "
-                                   r"``height_std``.",
-}
-
-SYMBOLS = {
-    "coulomb_force": "F_c", "static_force": "F_s", "stribeck_velocity": "v_s",
-    "stribeck_exponent": r"\delta", "viscous_coefficient": r"\sigma_2",
-    "reference_load": "N_0", "compliance.stiffness": "k_s",
-    ("dahl", "stiffness"): r"\sigma_0", ("dahl", "exponent"): r"\alpha",
-    "bristle_stiffness": r"\sigma_0", "bristle_damping": r"\sigma_1",
-    ("maxwell-slip", "stiffness"): "k_i", ("maxwell-slip", "breakaway_force"): "W_i",
-    ("gms", "stiffness"): "k_i", ("gms", "weight"): r"\alpha_i", "attraction": "C",
-    ("leuven", "stiffness"): "k_i", ("leuven", "breakaway_force"): "W_i",
-    ("leuven", "exponent"): "n", "normal_load": "N", "static_coefficient": r"\mu_s",
-    "kinetic_coefficient": r"\mu_k", "surface.asperity_density": r"\eta",
-    "surface.nominal_area": "A_0", "surface.asperity_radius": "R",
-    "surface.height_std": r"\sigma_a",
-}
-
-# The order of the sections (a registered type not named here comes after them).
-MODEL_ORDER = ("coulomb", "stribeck", "dahl", "lugre", "maxwell-slip", "gms", "leuven",
-               "pol-ind")
-MODEL_NAMES = {"coulomb": "Coulomb", "stribeck": "Stribeck", "dahl": "Dahl",
-               "lugre": "LuGre", "maxwell-slip": "Maxwell-slip",
-               "gms": "Generalized Maxwell-slip (GMS)", "leuven": "Leuven (modified)",
-               "pol-ind": "Pol-Ind"}
-MODEL_GUIDE = {"coulomb": "guide-static-models", "stribeck": "guide-static-models",
-               "dahl": "guide-dahl", "lugre": "guide-lugre",
-               "maxwell-slip": "guide-maxwell-slip", "gms": "guide-gms",
-               "leuven": "guide-leuven", "pol-ind": "guide-pol-ind"}
-
 RANGES = {
     "positive": "> 0",
     "nonnegative": "≥ 0",
@@ -167,10 +53,6 @@ RANGES = {
     "poisson": "−1 < ν ≤ 0.5",
     "fraction": "0 < value ≤ 1",
 }
-
-
-def _lookup(table, model_type, key):
-    return table.get((model_type, key), table.get(key))
 
 
 def parse_number(value) -> str:
@@ -245,14 +127,12 @@ def model_key_rows(model_type, cls, warn=None):
     def walk(entries, prefix):
         for entry in entries:
             key = prefix + entry.key
-            description = _lookup(DESCRIPTIONS, model_type, key)
-            if description is None:
-                description = ""
-                if warn is not None:
-                    warn(f"the key '{key}' of the {model_type} model has no description in "
-                         f"docs/_ext/polind_docs.py (DESCRIPTIONS)")
-            symbol = _lookup(SYMBOLS, model_type, key)
-            what = description if symbol is None or f":math:`{symbol}`" in description \
+            description = entry.description
+            if not description and warn is not None:
+                warn(f"the key '{key}' of the {model_type} model has no description (its "
+                     f"declaration's 'description')")
+            symbol = getattr(entry, "symbol", "")
+            what = description if not symbol or f":math:`{symbol}`" in description \
                 else f":math:`{symbol}` — {description}"
             if isinstance(entry, Table):
                 rows.append((key, [f"``[model.{key}]``", what, "", _default_text(
@@ -273,10 +153,10 @@ def model_key_rows(model_type, cls, warn=None):
 
 
 def _ordered_types():
-    from polind.models import MODEL_TYPES
+    """The registered types in registration order (polind's own first, in the guide's order)."""
+    from polind.models.registry import load_plugins
 
-    known = [name for name in MODEL_ORDER if name in MODEL_TYPES]
-    return known + sorted(name for name in MODEL_TYPES if name not in known)
+    return list(load_plugins())
 
 
 def _parse(directive, lines):
@@ -305,8 +185,8 @@ class ModelKeys(SphinxDirective):
 
         for model_type in _ordered_types():
             cls = MODEL_TYPES[model_type]
-            title = f"``{model_type}``: {MODEL_NAMES.get(model_type, cls.__name__)}"
-            guide = MODEL_GUIDE.get(model_type)
+            title = f"``{model_type}``: {cls.title or cls.__name__}"
+            guide = cls.guide
             lines += [f".. _formats-model-{model_type}:", "", title, "~" * (len(title) + 4), ""]
             intro = f'``type = "{model_type}"``, the class :class:`{cls.__module__}.' \
                     f'{cls.__name__}`' if cls.__module__.startswith("polind.models") is False \
@@ -469,22 +349,22 @@ class ModelTypes(SphinxDirective):
         rows = []
         for model_type in _ordered_types():
             cls = MODEL_TYPES[model_type]
-            guide = MODEL_GUIDE.get(model_type)
-            rows.append([f"``{model_type}``", MODEL_NAMES.get(model_type, cls.__name__),
+            guide = cls.guide
+            rows.append([f"``{model_type}``", cls.title or cls.__name__,
                          f":ref:`keys <formats-model-{model_type}>`",
                          f":ref:`{guide}`" if guide else "—"])
         return _parse(self, list_table(["``type``", "model", "keys", "equations"], rows))
 
 
 class DefaultModel(SphinxDirective):
-    """The default Pol-Ind model file, as TOML (from ``default_table()``)."""
+    """The default Pol-Ind model file, as TOML (from ``PolInd.example_parameters()``)."""
 
     def run(self):
         import tomli_w
 
-        from polind.models.pol_ind import default_table
+        from polind.models import PolInd
 
-        text = tomli_w.dumps({"model": default_table()})
+        text = tomli_w.dumps({"model": {"type": PolInd.type, **PolInd.example_parameters()}})
         block = nodes.literal_block(text, text)
         block["language"] = "toml"
         return [block]

@@ -20,7 +20,7 @@ import types
 from polind.errors import InputError
 
 __all__ = ["InputError", "MODEL_TYPES", "FrictionModel", "State", "SimulationResult",
-           "StepFunctions", "StepKernel", "register_model", "Param", "Table", "Stepper", "Body",
+           "StepFunctions", "StepKernel", "register_model", "unregister_model", "Param", "Table", "Stepper", "Body",
            "load_model", "model_from_dict", "save_model", "simulate", "System", "SystemResult",
            "load_system", "simulate_system", "identify", "FitResult",
            "identify_maxwell_slip", "identify_gms", "identify_stribeck", "compare", "sweep"]
@@ -33,6 +33,7 @@ _LAZY = {"MODEL_TYPES": "polind.models", "FrictionModel": "polind.models",
          "State": "polind.models", "StepFunctions": "polind.models",
          "StepKernel": "polind.models", "load_model": "polind.models",
          "model_from_dict": "polind.models", "register_model": "polind.models",
+         "unregister_model": "polind.models",
          "save_model": "polind.io",
          "Param": "polind.models.params", "Table": "polind.models.params",
          "SimulationResult": "polind.simulate", "simulate": "polind.simulate",

@@ -246,9 +246,6 @@ def surface(model_path, as_json):
     import json
 
     model = load_model(model_path)
-    if model.type != "pol-ind":
-        raise InputError(f"{model_path}: 'polind surface' needs a model of type 'pol-ind'. "
-                         f"Got '{model.type}' instead.")
     with blame(model_path):
         contact = model.contact()
         summary = contact.summary()
@@ -459,9 +456,6 @@ def demo(out_dir, model_path):
     model = None
     if model_path is not None:
         model = load_model(model_path)
-        if model.type != "pol-ind":
-            raise InputError(f"{model_path}: 'polind demo --model' needs a model of type "
-                             f"'pol-ind'. Got '{model.type}' instead.")
     try:
         Path(out_dir).mkdir(parents=True, exist_ok=True)
     except OSError as error:

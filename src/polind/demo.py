@@ -28,7 +28,6 @@ See the user guide: :ref:`guide-demo`.
 
 from __future__ import annotations
 
-import math
 import os
 import time
 
@@ -36,20 +35,7 @@ from polind import phenomena
 from polind.errors import InputError
 from polind.phenomena import PHENOMENA
 
-__all__ = ["LUGRE_1995", "EXPERIMENTS", "demo_models", "run_demo", "DemoSummary"]
-
-#: The LuGre parameters of Canudas de Wit, Olsson, Astrom and Lischinsky (1995)
-#: (:ref:`guide-lugre`).
-LUGRE_1995 = {
-    "type": "lugre",
-    "bristle_stiffness": 1e5,
-    "bristle_damping": math.sqrt(1e5),
-    "viscous_coefficient": 0.4,
-    "coulomb_force": 1.0,
-    "static_force": 1.5,
-    "stribeck_velocity": 1e-3,
-    "stribeck_exponent": 2.0,
-}
+__all__ = ["EXPERIMENTS", "demo_models", "run_demo", "DemoSummary"]
 
 #: The experiment of each phenomenon (the keys of metrics.json).
 EXPERIMENTS = {
@@ -61,59 +47,29 @@ EXPERIMENTS = {
     "breakaway": phenomena.breakaway,
 }
 
-_DESCRIPTIONS = {
-    "Pol-Ind": "The default Pol-Ind parameter set (the formats page, 'Model files'): GMS "
-               "elements built from Greenwood-Williamson asperity statistics and "
-               "Hertz/elastic-slip asperity mechanics (the user guide, 'The Pol-Ind model').",
-    "LuGre": "The LuGre model (the user guide, 'LuGre') with the parameters of Canudas de "
-             "Wit et al. (1995).",
-    "GMS": "GMS (the user guide, 'Generalized Maxwell-slip (GMS)') with eight equal-weight "
-           "elements whose slip distances are log-spaced from 1/30 of Pol-Ind's largest slip "
-           "distance to it, and Pol-Ind's Stribeck curve and attraction: the same levels with "
-           "a phenomenological element set.",
-    "Maxwell-slip": "Maxwell-slip (the user guide, 'Maxwell-slip') with Pol-Ind's element "
-                    "stiffnesses and W_j = mu_s N alpha_j (summing to mu_s N): the "
-                    "rate-independent limit of the same contact.",
-}
-
-
-def demo_models(pol_ind=None) -> dict:
-    """The four models of the demo, ``{label: model}``, Pol-Ind first.
+def demo_models(subject=None) -> dict:
+    """The models of the demo, ``{label: (model, description)}``, the subject first.
 
     Parameters
     ----------
-    pol_ind : polind.FrictionModel, optional
-        A Pol-Ind model; default the default parameter set
-        (:func:`polind.models.pol_ind.default_table`).
-        GMS and Maxwell-slip are built from its element table and levels.
+    subject : polind.FrictionModel, optional
+        The model the demo is about; default the default Pol-Ind parameter set
+        (``PolInd.example()``).  The models beside it are its
+        ``peers()`` (for Pol-Ind: LuGre of 1995, a
+        phenomenological GMS and its Maxwell-slip limit).
     """
-    import polind
-    from polind.models.pol_ind import default_table
+    from polind.models import PolInd
 
-    if pol_ind is None:
-        pol_ind = polind.model_from_dict({"model": default_table()})
-    equivalent = pol_ind.gms_parameters()       # the GMS Pol-Ind is at its load (7.6)
-    stiffness = [float(k) for k in equivalent["stiffness"]]
-    weight = [float(a) for a in equivalent["weight"]]
-    static = equivalent["static_force"]
-    slips = [static * a / k for a, k in zip(weight, stiffness) if k > 0.0]
-    count = 8
-    shortest = max(slips) / 30.0
-    ratio = (max(slips) / shortest) ** (1.0 / (count - 1))
-    gms_slip = [shortest * ratio ** i for i in range(count)]
-    gms = {key: equivalent[key] for key in (
-        "attraction", "coulomb_force", "static_force", "stribeck_velocity",
-        "stribeck_exponent", "stribeck_shape", "viscous_coefficient")}
-    gms.update(type="gms", stiffness=[static / count / d for d in gms_slip],
-               weight=[1.0 / count] * count)
-    maxwell_slip = {"type": "maxwell-slip", "stiffness": stiffness,
-                    "breakaway_force": [static * a for a in weight]}
-    return {
-        "Pol-Ind": pol_ind,
-        "LuGre": polind.model_from_dict({"model": dict(LUGRE_1995)}),
-        "GMS": polind.model_from_dict({"model": gms}),
-        "Maxwell-slip": polind.model_from_dict({"model": maxwell_slip}),
-    }
+    if subject is None:
+        subject = PolInd.example()
+    described = (f"The {subject.title or subject.type} model of the report (the user guide, "
+                 f"'{subject.title or subject.type}').")
+    if subject == PolInd.example():
+        described = ("The default Pol-Ind parameter set (the formats page, 'Model files'): GMS "
+                     "elements built from Greenwood-Williamson asperity statistics and "
+                     "Hertz/elastic-slip asperity mechanics (the user guide, 'The Pol-Ind "
+                     "model').")
+    return {subject.title or subject.type: (subject, described), **subject.peers()}
 
 
 class DemoSummary(dict):
@@ -185,7 +141,9 @@ def run_demo(out_dir="polind-report", progress=None, *, model=None) -> DemoSumma
     started = time.perf_counter()
     if os.path.isdir(out_dir):
         report.check_targets(out_dir)      # before the experiments, not after them
-    models = demo_models(model)
+    described = demo_models(model)
+    models = {label: entry[0] for label, entry in described.items()}
+    subject = next(iter(models))
     total = len(models) * len(PHENOMENA) + 1
     advance = _progress_hooks(progress, total)
     results = {phenomenon: {} for phenomenon in PHENOMENA}
@@ -196,9 +154,9 @@ def run_demo(out_dir="polind-report", progress=None, *, model=None) -> DemoSumma
             except InputError as error:
                 raise InputError(f"The {phenomenon} experiment on {label}: {error}") from None
             advance(f"{phenomenon}: {label}")
-    info = {label: {"description": _DESCRIPTIONS[label], "parameters": m.to_dict()["model"]}
-            for label, m in models.items()}
-    written = report.write_report(results, out_dir, models=info, subject="Pol-Ind")
+    info = {label: {"description": description, "parameters": m.to_dict()["model"]}
+            for label, (m, description) in described.items()}
+    written = report.write_report(results, out_dir, models=info, subject=subject)
     advance("report")
     table = report.summary_table(results)
     return DemoSummary(out_dir=written["out_dir"], files=written["files"],

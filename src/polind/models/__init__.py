@@ -1,7 +1,7 @@
 """One module per friction model; importing this package registers them all."""
 
-from polind.models.base import (MODEL_TYPES, FrictionModel, Path, State, StepFunctions,
-                                StepKernel, register_model)
+from polind.models.base import FrictionModel, Path, State, StepFunctions, StepKernel
+from polind.models.registry import MODEL_TYPES, model_class, register_model, unregister_model
 from polind.models.static import Coulomb, Stribeck
 from polind.models.dahl import Dahl
 from polind.models.lugre import LuGre
@@ -11,7 +11,7 @@ from polind.models.leuven import Leuven
 from polind.models.pol_ind import PolInd
 
 __all__ = ["MODEL_TYPES", "FrictionModel", "Path", "State", "StepFunctions", "StepKernel",
-           "register_model", "Coulomb", "Stribeck", "Dahl",
+           "register_model", "unregister_model", "model_class", "Coulomb", "Stribeck", "Dahl",
            "LuGre", "MaxwellSlip", "GMS", "Leuven", "PolInd"]
 
 from polind.errors import InputError as _InputError
@@ -43,12 +43,9 @@ def model_from_dict(document: dict) -> FrictionModel:
     if "type" not in table:
         raise _InputError("Missing key 'type' in the [model] table; expected one of: "
                           + ", ".join(sorted(MODEL_TYPES)) + ".")
-    model_type = table["type"]
-    if not isinstance(model_type, str) or model_type not in MODEL_TYPES:
-        raise _InputError(f"Unknown model type {_describe(model_type)} for key 'type'; expected "
-                          "one of: " + ", ".join(sorted(MODEL_TYPES)) + ".")
+    cls = model_class(table["type"])
     params = {key: value for key, value in table.items() if key != "type"}
-    return MODEL_TYPES[model_type](**params)
+    return cls(**params)
 
 
 def load_model(path) -> FrictionModel:

@@ -20,39 +20,7 @@ import numpy as np
 from polind.errors import InputError, describe
 from polind.models.params import Param, Table, validate_table
 
-MODEL_TYPES: dict[str, type] = {}
-
-
-def register_model(cls, *, replace=False):
-    """Make a :class:`FrictionModel` subclass usable everywhere under its ``type``.
-
-    After ``polind.register_model(MyModel)`` the type can be named in model
-    files (``type = "my-model"``) and runs in :func:`polind.simulate`,
-    :class:`polind.Stepper`, :class:`polind.Body`,
-    :func:`polind.simulate_system` and :func:`polind.identify`, with no
-    change to polind's own files.  The class must subclass
-    :class:`FrictionModel`, name a new ``type`` (a non-empty string; pass
-    ``replace=True`` to redefine one of your own) and supply
-    ``step_functions`` and ``kernel_arrays``.  Returns the class, so it can
-    be used as a decorator.
-    """
-    if not (isinstance(cls, type) and issubclass(cls, FrictionModel)):
-        raise InputError(f"register_model needs a subclass of polind.FrictionModel. "
-                         f"Got {describe(cls)} instead.")
-    name = getattr(cls, "type", "")
-    if not isinstance(name, str) or not name:
-        raise InputError(f"The model class {cls.__name__} must set 'type' to a non-empty "
-                         f"string (its name in model files). Got {describe(name)} instead.")
-    for method in ("step_functions", "kernel_arrays"):
-        if getattr(cls, method) is getattr(FrictionModel, method):
-            raise InputError(f"The model class {cls.__name__} must define {method}() "
-                             f"(see polind.FrictionModel).")
-    if name in MODEL_TYPES and MODEL_TYPES[name] is not cls and not replace:
-        raise InputError(f"The model type '{name}' is already registered (by "
-                         f"{MODEL_TYPES[name].__name__}); choose another name.")
-    MODEL_TYPES[name] = cls
-    return cls
-
+from polind.models.registry import MODEL_TYPES, model_class, register_model  # noqa: F401
 
 #: polind's own models register with the same function, as a class decorator.
 register = register_model
@@ -118,9 +86,7 @@ class State:
         if not isinstance(data, dict) or not isinstance(data.get("type"), str):
             raise InputError(f"A saved state must be a table with a 'type' key. "
                              f"Got {describe(data)} instead.")
-        if data["type"] not in MODEL_TYPES:
-            raise InputError(f"Unknown model type '{data['type']}' in a saved state; expected one "
-                             f"of: {', '.join(sorted(MODEL_TYPES))}.")
+        model_class(data["type"], "in a saved state")
         scalars = {}
         for key in cls._SCALARS:
             value = data.get(key, 0.0)
@@ -394,8 +360,14 @@ _RIGID = np.array([math.inf] + [0.0] * 8)
 
 #: The keys every model has besides its own (the user guide, "Normal load for every
 #: model" and "Series compliance"): added to each subclass's ``parameters``.
-REFERENCE_LOAD = Param("reference_load", default=None, unit="N")
-COMPLIANCE = Table("compliance", (Param("stiffness", unit="N/m"),), default=None)
+REFERENCE_LOAD = Param("reference_load", default=None, unit="N",
+          description=("Reference normal load :math:`N_0`: the load the force levels were "
+                       "measured at. With it, a normal-load signal scales the force "
+                       "(:ref:`guide-normal-load`); without it the signal is ignored."), symbol="N_0")
+COMPLIANCE = Table("compliance", (Param("stiffness", unit="N/m",
+          description=("Series stiffness :math:`k_s` of the rig, holders and bodies."), symbol="k_s"),), default=None,
+          description=("Optional table: a linear spring in series with the contact "
+                       "(:ref:`guide-series-compliance`)."))
 
 
 class FrictionModel:
@@ -422,6 +394,17 @@ class FrictionModel:
     """
 
     type: ClassVar[str] = ""
+    #: The model's name in prose and tables ("Generalized Maxwell-slip (GMS)").
+    title: ClassVar[str] = ""
+    #: What the model is for, one sentence (the README's and the guide's model tables).
+    purpose: ClassVar[str] = ""
+    #: The label of the user guide's section with its equations (e.g. ``"guide-gms"``), or "".
+    guide: ClassVar[str] = ""
+    #: Whether the model is a set of elements whose count ``example()`` can choose.
+    has_elements: ClassVar[bool] = False
+    #: Whether the model is built from contact mechanics (:meth:`contact` gives its surface,
+    #: separation and elements: ``polind surface``).
+    has_contact: ClassVar[bool] = False
     parameters: ClassVar[tuple] = ()
     takes_normal_load: ClassVar[bool] = False
     state_keys: ClassVar[tuple | None] = None
@@ -500,6 +483,41 @@ class FrictionModel:
         return np.asarray(self._params[key], dtype=np.float64)
 
     # --- what a subclass supplies --------------------------------------------------------
+
+    @classmethod
+    def example_parameters(cls, elements: int | None = None) -> dict:
+        """A representative ``[model]`` table without ``type`` (see ``example()``)."""
+        raise NotImplementedError(f"The {cls.__name__} model gives no example parameters.")
+
+    @classmethod
+    def example(cls, elements: int | None = None) -> "FrictionModel":
+        """A representative model of this type: the parameters the documentation,
+        ``polind bench`` and the tests use.
+
+        Parameters
+        ----------
+        elements : int, optional
+            For a model of elements (``has_elements``), their number; default the
+            model's own representative count.  Ignored by the other models.
+        """
+        return cls(**cls.example_parameters(elements))
+
+    def contact(self, normal_load=None):
+        """The contact mechanics at ``normal_load`` [N] (default the model's own load).
+
+        Only models built from contact mechanics have one (``has_contact``); for
+        any other this is an :class:`~polind.InputError`.
+        """
+        having = ", ".join(f"'{name}'" for name, cls in MODEL_TYPES.items() if cls.has_contact)
+        raise InputError(f"The {self.type} model has no contact mechanics (a surface, a "
+                         f"separation, elements); expected a model of type {having or 'none'}.")
+
+    def peers(self) -> dict:
+        """The models ``polind demo`` runs beside this one: ``{label: (model, description)}``.
+
+        Default: none (the demo then shows this model alone).
+        """
+        return {}
 
     def initial_variables(self, normal_load=None) -> dict:
         """The internal variables at rest before any motion (float64 arrays)."""

@@ -29,10 +29,26 @@ class Dahl(FrictionModel):
     """
 
     type = "dahl"
+    title = "Dahl"
+    form = "rate-independent first-order hysteresis"
+    purpose = "presliding stiffness with a smooth approach to Coulomb friction"
+    guide = "guide-dahl"
+
+    @classmethod
+    def example_parameters(cls, elements=None):
+        """sigma0 = 1e5 N/m, Fc = 1 N, alpha = 1."""
+        return {"stiffness": 1e5, "coulomb_force": 1.0, "exponent": 1.0}
+
     parameters = (
-        Param("stiffness", unit="N/m"),
-        Param("coulomb_force", unit="N"),
-        Param("exponent", bound="nonnegative", default=1.0),
+        Param("stiffness", unit="N/m",
+          description=(r"Dahl stiffness :math:`\sigma_0`: the slope of the force against "
+                       r"displacement after a reversal."), symbol=r"\sigma_0"),
+        Param("coulomb_force", unit="N",
+          description=("Coulomb (kinetic) friction level :math:`F_c`: the force of steady "
+                       "sliding well above the Stribeck velocity."), symbol="F_c"),
+        Param("exponent", bound="nonnegative", default=1.0,
+          description=(r"Dahl exponent :math:`\alpha`: the shape of the approach to "
+                       r":math:`F_c` (1 gives the exponential)."), symbol=r"\alpha"),
     )
     fit_defaults = ("stiffness", "coulomb_force")
 

@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+import math
 import numpy as np
 
 from polind.models.base import FrictionModel, StepFunctions, element_scales, register, scales
 from polind.models.params import Param, STRIBECK_PARAMS, VISCOUS, same_length, sums_to
+from polind.models.maxwell_slip import example_elements
 
 
 @register
@@ -34,10 +36,34 @@ class GMS(FrictionModel):
     """
 
     type = "gms"
+    title = "Generalized Maxwell-slip (GMS)"
+    form = "Maxwell-slip elements with a rate-state slip law"
+    purpose = "presliding memory *and* sliding dynamics (Stribeck, lag) in one model"
+    guide = "guide-gms"
+    has_elements = True
+
+    @classmethod
+    def example_parameters(cls, elements=None):
+        """The elements of ``example_elements()`` (weights
+        their shares of the break-away force), C = 50 N/s with the four default elements
+        (1e4 N/s with ``elements``), and the Stribeck levels of the LuGre set of 1995."""
+        stiffness, breakaway = example_elements(elements)
+        total = math.fsum(breakaway)
+        return {"stiffness": stiffness, "weight": [w / total for w in breakaway],
+                "attraction": 50.0 if elements is None else 1e4,
+                "coulomb_force": 1.0, "static_force": 1.5, "stribeck_velocity": 1e-3,
+                "stribeck_exponent": 2.0, "viscous_coefficient": 0.4,
+                "stribeck_shape": "exponential"}
+
     parameters = (
-        Param("stiffness", kind="list", unit="N/m"),
-        Param("weight", kind="list"),
-        Param("attraction", unit="N/s"),
+        Param("stiffness", kind="list", unit="N/m",
+          description="Element stiffnesses :math:`k_i`, one per element.", symbol="k_i"),
+        Param("weight", kind="list",
+          description=(r"Element weights :math:`\alpha_i`, each element's share of the "
+                       r"Stribeck curve; positive, summing to 1 within :math:`10^{-9}`."), symbol=r"\alpha_i"),
+        Param("attraction", unit="N/s",
+          description=("Attraction parameter :math:`C`: how fast a slipping element's force "
+                       "approaches its share of the Stribeck curve."), symbol="C"),
     ) + STRIBECK_PARAMS + (VISCOUS,)
     phenomena = frozenset({"presliding_memory", "frictional_lag", "non_drifting"})
     fit_defaults = ("stiffness", "attraction", "coulomb_force", "static_force",

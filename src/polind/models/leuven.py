@@ -9,6 +9,7 @@ import numpy as np
 from polind.models.base import FrictionModel, StepFunctions, element_scales, register, scales
 from polind.errors import InputError
 from polind.models.params import Param, STRIBECK_PARAMS, VISCOUS, same_length, sums_to
+from polind.models.maxwell_slip import example_elements
 
 
 @register
@@ -50,11 +51,40 @@ class Leuven(FrictionModel):
     """
 
     type = "leuven"
+    title = "Leuven (modified)"
+    form = "modified Leuven model, Maxwell-slip hysteresis force"
+    purpose = "a LuGre-like model with non-local memory"
+    guide = "guide-leuven"
+    has_elements = True
+
+    @classmethod
+    def example_parameters(cls, elements=None):
+        """The elements of ``example_elements()``, break-away
+        forces summing to Fs = 1.5 N, n = 2, sigma1 = 100 N s/m with the four default
+        elements (10 N s/m with ``elements``), and the Stribeck levels of the LuGre set of
+        1995."""
+        stiffness, breakaway = example_elements(elements)
+        if elements is None:
+            breakaway = [0.3, 0.45, 0.375, 0.375]
+        else:
+            breakaway = [w * 1.5 / math.fsum(breakaway) for w in breakaway]
+        return {"stiffness": stiffness, "breakaway_force": breakaway, "exponent": 2.0,
+                "bristle_damping": 100.0 if elements is None else 10.0,
+                "coulomb_force": 1.0, "static_force": 1.5, "stribeck_velocity": 1e-3,
+                "stribeck_exponent": 2.0, "viscous_coefficient": 0.4,
+                "stribeck_shape": "exponential"}
+
     parameters = (
-        Param("stiffness", kind="list", unit="N/m"),
-        Param("breakaway_force", kind="list", unit="N"),
-        Param("exponent"),
-        Param("bristle_damping", bound="nonnegative", unit="N s/m"),
+        Param("stiffness", kind="list", unit="N/m",
+          description="Stiffnesses :math:`k_i` of the hysteresis elements.", symbol="k_i"),
+        Param("breakaway_force", kind="list", unit="N",
+          description=("Break-away forces :math:`W_i` of the hysteresis elements, summing to "
+                       "``static_force`` within :math:`10^{-9}`."), symbol="W_i"),
+        Param("exponent",
+          description="Exponent :math:`n` of the state equation.", symbol="n"),
+        Param("bristle_damping", bound="nonnegative", unit="N s/m",
+          description=(r"Bristle damping :math:`\sigma_1`: the force :math:`\sigma_1 \dot z` "
+                       r"of the bristle's deflection rate."), symbol=r"\sigma_1"),
         VISCOUS,
     ) + STRIBECK_PARAMS
     phenomena = frozenset({"frictional_lag"})

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import numpy as np
 
 from polind.models.base import FrictionModel, StepFunctions, register, scales
@@ -42,9 +43,30 @@ class LuGre(FrictionModel):
     """
 
     type = "lugre"
+    title = "LuGre"
+    form = "bristle model with a Stribeck curve"
+    purpose = ("the standard dynamic model for servo compensation; stick-slip and frictional lag "
+               "(drifts under small oscillating forces, as it must)")
+    guide = "guide-lugre"
+
+    @classmethod
+    def example_parameters(cls, elements=None):
+        """The parameters of Canudas de Wit, Olsson, Astrom and Lischinsky (1995).
+
+        sigma0 = 1e5 N/m, sigma1 = sqrt(1e5) N s/m, sigma2 = 0.4 N s/m,
+        Fc = 1 N, Fs = 1.5 N, vs = 1 mm/s, delta = 2.
+        """
+        return {"bristle_stiffness": 1e5, "bristle_damping": math.sqrt(1e5),
+                "coulomb_force": 1.0, "static_force": 1.5, "stribeck_velocity": 1e-3,
+                "stribeck_exponent": 2.0, "viscous_coefficient": 0.4,
+                "stribeck_shape": "exponential"}
+
     parameters = (
-        Param("bristle_stiffness", unit="N/m"),
-        Param("bristle_damping", bound="nonnegative", unit="N s/m"),
+        Param("bristle_stiffness", unit="N/m",
+          description=(r"Bristle stiffness :math:`\sigma_0`: the presliding stiffness."), symbol=r"\sigma_0"),
+        Param("bristle_damping", bound="nonnegative", unit="N s/m",
+          description=(r"Bristle damping :math:`\sigma_1`: the force :math:`\sigma_1 \dot z` "
+                       r"of the bristle's deflection rate."), symbol=r"\sigma_1"),
         VISCOUS,
     ) + STRIBECK_PARAMS
     phenomena = frozenset({"frictional_lag"})

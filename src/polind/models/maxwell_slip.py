@@ -19,6 +19,27 @@ def virgin_curve(x, stiffness, breakaway_force):
     return np.sign(x) * np.sum(k * np.minimum(np.abs(x)[..., None], slip), axis=-1)
 
 
+#: The four elements of the representative Maxwell-slip family models (N/m; N, summing to 1).
+EXAMPLE_STIFFNESS = (1e5, 5e4, 2e4, 1e4)
+EXAMPLE_BREAKAWAY = (0.2, 0.3, 0.25, 0.25)
+
+
+def example_elements(count=None, seed=0) -> tuple:
+    """``(stiffness [N/m], breakaway_force [N])`` lists of representative elements.
+
+    Without ``count``: four elements, k = 1e5, 5e4, 2e4, 1e4 N/m and W = 0.2,
+    0.3, 0.25, 0.25 N.  With ``count``: that many, stiffnesses log-uniform in
+    [1e5, 1e7] N/m and slip distances log-uniform in [0.1, 10] um, drawn with
+    ``seed`` (the element sets ``polind bench`` times).
+    """
+    if count is None:
+        return list(EXAMPLE_STIFFNESS), list(EXAMPLE_BREAKAWAY)
+    rng = np.random.default_rng(seed)
+    stiffness = 10.0 ** rng.uniform(5.0, 7.0, count)
+    slip = 10.0 ** rng.uniform(-7.0, -5.0, count)
+    return stiffness.tolist(), (stiffness * slip).tolist()
+
+
 @register
 class MaxwellSlip(FrictionModel):
     """Maxwell-slip: ``z_i <- clip(z_i + dx, -D_i, D_i)``, ``F = sum k_i z_i + sigma2 v``.
@@ -46,9 +67,25 @@ class MaxwellSlip(FrictionModel):
     """
 
     type = "maxwell-slip"
+    title = "Maxwell-slip"
+    form = "elastic–perfectly-plastic elements in parallel"
+    purpose = "presliding hysteresis with exact non-local memory"
+    guide = "guide-maxwell-slip"
+    has_elements = True
+
+    @classmethod
+    def example_parameters(cls, elements=None):
+        """The elements of ``example_elements()``, sigma2 = 0.4 N s/m."""
+        stiffness, breakaway = example_elements(elements)
+        return {"stiffness": stiffness, "breakaway_force": breakaway,
+                "viscous_coefficient": 0.4}
+
     parameters = (
-        Param("stiffness", kind="list", unit="N/m"),
-        Param("breakaway_force", kind="list", unit="N"),
+        Param("stiffness", kind="list", unit="N/m",
+          description="Element stiffnesses :math:`k_i`, one per element.", symbol="k_i"),
+        Param("breakaway_force", kind="list", unit="N",
+          description=(r"Element break-away forces :math:`W_i`, one per element; the largest "
+                       r"friction force is :math:`\sum_i W_i`."), symbol="W_i"),
         VISCOUS,
     )
     phenomena = frozenset({"presliding_memory", "non_drifting"})

@@ -42,6 +42,11 @@ class Param:
     #: measurement is read, such as a height map's pixel size, is not a model
     #: parameter to fit).
     fittable: bool = True
+    #: What the key means, for the file-format tables of the documentation (reST,
+    #: without unit, default or range: those come from the fields above).
+    description: str = ""
+    #: Its symbol in the user guide's equations (LaTeX, e.g. ``"\\sigma_0"``), or "".
+    symbol: str = ""
 
 
 @dataclass(frozen=True)
@@ -51,6 +56,7 @@ class Table:
     key: str
     entries: tuple
     default: object = REQUIRED
+    description: str = ""
 
 
 def _validate_value(ctx, param, value):
@@ -134,12 +140,24 @@ def sums_to(model_type, table, key, total, what):
 
 
 STRIBECK_PARAMS = (
-    Param("coulomb_force", unit="N"),
-    Param("static_force", unit="N"),
-    Param("stribeck_velocity", unit="m/s"),
-    Param("stribeck_exponent", default=2.0),
+    Param("coulomb_force", unit="N",
+          description=("Coulomb (kinetic) friction level :math:`F_c`: the force of steady "
+                       "sliding well above the Stribeck velocity."), symbol="F_c"),
+    Param("static_force", unit="N",
+          description=("Static friction level :math:`F_s`, the Stribeck curve at rest; "
+                       ":math:`F_s < F_c` makes the friction velocity-strengthening."), symbol="F_s"),
+    Param("stribeck_velocity", unit="m/s",
+          description=("Stribeck velocity :math:`v_s`: the speed over which the force falls "
+                       "from the static to the kinetic level."), symbol="v_s"),
+    Param("stribeck_exponent", default=2.0,
+          description=r"Stribeck exponent :math:`\delta` of the curve's shape.", symbol=r"\delta"),
     Param("stribeck_shape", kind="str", default="exponential",
-          choices=("exponential", "rational")),
+          choices=("exponential", "rational"),
+          description=('Shape of the Stribeck curve: ``"exponential"`` '
+                       ':math:`e^{-|v/v_s|^\\delta}` or ``"rational"`` :math:`1/(1 + '
+                       '|v/v_s|^\\delta)` (:ref:`guide-stribeck-curve`).')),
 )
 
-VISCOUS = Param("viscous_coefficient", bound="nonnegative", default=0.0, unit="N s/m")
+VISCOUS = Param("viscous_coefficient", bound="nonnegative", default=0.0, unit="N s/m",
+          description=(r"Viscous coefficient :math:`\sigma_2`: the force :math:`\sigma_2 v` "
+                       r"added to the friction (never scaled by a normal load)."), symbol=r"\sigma_2")

@@ -40,7 +40,8 @@ import numpy as np
 
 from polind.errors import InputError
 from polind.models.base import FrictionModel, StepFunctions, register
-from polind.models.gms import gms_arrays, gms_scales
+from polind.models.gms import GMS, gms_arrays, gms_scales
+from polind.models.maxwell_slip import MaxwellSlip
 from polind.models.params import Param, Table, VISCOUS
 
 # The keys a file of measured summit heights replaces: required without one,
@@ -51,44 +52,59 @@ _MAPPED_SURFACE_KEYS = ("asperity_density", "asperity_radius", "height_std")
 # The keys that only go with a height map.
 _MAP_KEYS = ("pixel_size", "short_cutoff")
 _SURFACE = Table("surface", (
-    Param("asperity_density", unit="1/m^2", default=None),
-    Param("nominal_area", unit="m^2", default=None),
-    Param("asperity_radius", unit="m", default=None),
-    Param("height_std", unit="m", default=None),
-    Param("topography", kind="path", default=None),
-    Param("pixel_size", kind="pair", unit="m", default=None, fittable=False),
-    Param("short_cutoff", unit="m", default=None, fittable=False),
-))
+    Param("asperity_density", unit="1/m^2", default=None,
+          description=(r"Summit density :math:`\eta`, summits per unit nominal area. Required "
+                       r"unless the summits come from a file."), symbol=r"\eta"),
+    Param("nominal_area", unit="m^2", default=None,
+          description=("Nominal (apparent) contact area :math:`A_0`. Required unless the "
+                       "summits come from a file; with a measured ``topography``, optional "
+                       "(default: the map's own area)."), symbol="A_0"),
+    Param("asperity_radius", unit="m", default=None,
+          description=("Summit radius :math:`R`, the same for every summit of a Gaussian "
+                       "surface."), symbol="R"),
+    Param("height_std", unit="m", default=None,
+          description=(r"Standard deviation :math:`\sigma_a` of the summit heights. Required "
+                       r"unless the summits come from a file."), symbol=r"\sigma_a"),
+    Param("topography", kind="path", default=None,
+          description=("A measured height map (any format SurfaceTopography reads, or a "
+                       "``.npy`` / ``.csv`` grid), relative to the model file: the summits, "
+                       "their heights and radii come from it "
+                       "(:ref:`guide-measured-surfaces`).")),
+    Param("pixel_size", kind="pair", unit="m", default=None, fittable=False,
+          description=(r"Grid spacings :math:`[\Delta x, \Delta y]` of a ``.npy`` or ``.csv`` "
+                       r"height map (other formats carry their own).")),
+    Param("short_cutoff", unit="m", default=None, fittable=False,
+          description=("Optional Gaussian low-pass (ISO 16610-61) of the height map before "
+                       "the summits are found: the wavelength passed at 50 %.")),
+), description="The rough surface (:ref:`guide-pol-ind-surface`).")
 _MATERIALS = Table("materials", (
-    Param("youngs_modulus", kind="pair", unit="Pa"),
-    Param("poisson_ratio", kind="pair", bound="poisson"),
-))
+    Param("youngs_modulus", kind="pair", unit="Pa",
+          description="Young's moduli :math:`[E_1, E_2]` of the two bodies."),
+    Param("poisson_ratio", kind="pair", bound="poisson",
+          description=r"Poisson's ratios :math:`[\nu_1, \nu_2]` of the two bodies."),
+), description="The two bodies' elastic constants (:ref:`guide-pol-ind-surface`).")
 _DISCRETISATION = Table("discretisation", (
     # Default: "direct" with a surface.topography, else "statistical" (PolInd._check).
-    Param("summation", kind="str", default=None, choices=("statistical", "direct")),
-    Param("elements", kind="int", default=64),
-    Param("seed", kind="int", bound="nonnegative", default=0),
-    Param("heights_file", kind="path", default=None),
-), default={})
+    Param("summation", kind="str", default=None, choices=("statistical", "direct"),
+          description=('``"statistical"`` (height bins of the Gaussian) or ``"direct"`` (one '
+                       'element per summit).')),
+    Param("elements", kind="int", default=64,
+          description="Statistical summation: the number of height bins (elements)."),
+    Param("seed", kind="int", bound="nonnegative", default=0,
+          description=("Direct summation: the seed of the random summit heights drawn from "
+                       "the Gaussian.")),
+    Param("heights_file", kind="path", default=None,
+          description=("Direct summation: a CSV file of measured summit heights (column "
+                       "``h``, m), relative to the model file; replaces "
+                       "``asperity_density``, ``nominal_area`` and ``height_std``.")),
+), default={},
+          description="How the surface becomes elements (:ref:`guide-pol-ind-elements`).")
 
 
 
 def default_table() -> dict:
-    """The default Pol-Ind ``[model]`` table (a steel pair under 100 N; :ref:`formats-model-files`)."""
-    return {
-        "type": "pol-ind",
-        "normal_load": 100.0,
-        "static_coefficient": 0.15,
-        "kinetic_coefficient": 0.10,
-        "stribeck_velocity": 1e-3,
-        "stribeck_exponent": 2.0,
-        "attraction": 1e4,
-        "viscous_coefficient": 0.0,
-        "surface": {"asperity_density": 1e10, "nominal_area": 1e-4,
-                    "asperity_radius": 50e-6, "height_std": 0.5e-6},
-        "materials": {"youngs_modulus": [210e9, 210e9], "poisson_ratio": [0.3, 0.3]},
-        "discretisation": {"summation": "statistical", "elements": 64, "seed": 0},
-    }
+    """The default Pol-Ind ``[model]`` table, ``type`` included (:meth:`PolInd.example_parameters`)."""
+    return {"type": PolInd.type, **PolInd.example_parameters()}
 
 
 # Surfaces built from the same surface, materials and discretisation tables are
@@ -188,6 +204,13 @@ class PolInd(FrictionModel):
     """
 
     type = "pol-ind"
+    title = "Pol-Ind"
+    form = "GMS elements derived from asperity mechanics"
+    purpose = ("friction from surface roughness and materials: parameters a tribologist can "
+               "measure")
+    guide = "guide-pol-ind"
+    has_elements = True
+    has_contact = True
     takes_normal_load = True
     phenomena = frozenset({"presliding_memory", "frictional_lag", "non_drifting"})
     fit_defaults = ("static_coefficient", "kinetic_coefficient", "stribeck_velocity",
@@ -195,14 +218,28 @@ class PolInd(FrictionModel):
     state_keys = ("element_force", "slip_direction", "element_height", "element_count",
                   "table_load")
     parameters = (
-        Param("normal_load", unit="N"),
-        Param("static_coefficient"),
-        Param("kinetic_coefficient"),
-        Param("stribeck_velocity", unit="m/s"),
-        Param("stribeck_exponent", default=2.0),
+        Param("normal_load", unit="N",
+          description=("Normal load :math:`N` pressing the surfaces together; a "
+                       "``normal_load`` signal replaces it sample by sample."), symbol="N"),
+        Param("static_coefficient",
+          description=(r"Static friction coefficient :math:`\mu_s`: break-away at "
+                       r":math:`\mu_s N`."), symbol=r"\mu_s"),
+        Param("kinetic_coefficient",
+          description=(r"Kinetic friction coefficient :math:`\mu_k`: sliding at :math:`\mu_k "
+                       r"N` well above :math:`v_s`."), symbol=r"\mu_k"),
+        Param("stribeck_velocity", unit="m/s",
+          description=("Stribeck velocity :math:`v_s`: the speed over which the force falls "
+                       "from the static to the kinetic level."), symbol="v_s"),
+        Param("stribeck_exponent", default=2.0,
+          description=r"Stribeck exponent :math:`\delta` of the curve's shape.", symbol=r"\delta"),
         Param("stribeck_shape", kind="str", default="exponential",
-              choices=("exponential", "rational")),
-        Param("attraction", unit="N/s"),
+              choices=("exponential", "rational"),
+          description=('Shape of the Stribeck curve: ``"exponential"`` '
+                       ':math:`e^{-|v/v_s|^\\delta}` or ``"rational"`` :math:`1/(1 + '
+                       '|v/v_s|^\\delta)` (:ref:`guide-stribeck-curve`).')),
+        Param("attraction", unit="N/s",
+          description=("Attraction parameter :math:`C`: how fast a slipping element's force "
+                       "approaches its share of the Stribeck curve."), symbol="C"),
         VISCOUS,
         _SURFACE,
         _MATERIALS,
@@ -339,6 +376,87 @@ class PolInd(FrictionModel):
                 "stribeck_exponent": p["stribeck_exponent"],
                 "stribeck_shape": p["stribeck_shape"],
                 "viscous_coefficient": p["viscous_coefficient"]}
+
+    @classmethod
+    def example_parameters(cls, elements=None):
+        """The default Pol-Ind parameter set: a steel pair under 100 N (:ref:`formats-model-files`).
+
+        mu_s = 0.15, mu_k = 0.10, vs = 1 mm/s, delta = 2, C = 1e4 N/s, sigma2 = 0;
+        eta = 1e10 /m^2, A0 = 1e-4 m^2, R = 50 um, sigma_a = 0.5 um; E = 210 GPa and
+        nu = 0.3 for both bodies; 64 statistical elements (or ``elements``).
+        """
+        return {
+            "normal_load": 100.0,
+            "static_coefficient": 0.15,
+            "kinetic_coefficient": 0.10,
+            "stribeck_velocity": 1e-3,
+            "stribeck_exponent": 2.0,
+            "attraction": 1e4,
+            "viscous_coefficient": 0.0,
+            "surface": {"asperity_density": 1e10, "nominal_area": 1e-4,
+                        "asperity_radius": 50e-6, "height_std": 0.5e-6},
+            "materials": {"youngs_modulus": [210e9, 210e9], "poisson_ratio": [0.3, 0.3]},
+            "discretisation": {"summation": "statistical",
+                               "elements": 64 if elements is None else int(elements),
+                               "seed": 0},
+        }
+
+    def equivalent_gms(self, normal_load=None) -> "GMS":
+        """The GMS model this model is at a constant normal load [N] (:ref:`guide-pol-ind-law`):
+        its element table and levels (:meth:`gms_parameters`)."""
+        equivalent = self.gms_parameters(normal_load)
+        equivalent["stiffness"] = [float(k) for k in equivalent["stiffness"]]
+        equivalent["weight"] = [float(a) for a in equivalent["weight"]]
+        return GMS(**equivalent)
+
+    def equivalent_maxwell_slip(self, normal_load=None) -> "MaxwellSlip":
+        """The rate-independent limit (C -> inf, Fs = Fc) of the same contact: Maxwell-slip with
+        the element stiffnesses ``k_j`` and break-away forces ``W_j = mu_s N alpha_j`` (summing
+        to ``mu_s N``), no viscous term."""
+        equivalent = self.gms_parameters(normal_load)
+        static = equivalent["static_force"]
+        return MaxwellSlip(stiffness=[float(k) for k in equivalent["stiffness"]],
+                           breakaway_force=[static * float(a) for a in equivalent["weight"]])
+
+    def phenomenological_gms(self, count=8, span=30.0) -> "GMS":
+        """A GMS as an engineer would set it up without the asperity mechanics.
+
+        ``count`` elements of equal weight whose slip distances are log-spaced over
+        the model's presliding range (from ``1/span`` of its largest element slip
+        distance to that distance, ``k_i = alpha_i Fs / D_i``), with this model's
+        Stribeck curve, attraction and viscous term: the same levels with a
+        different element set.
+        """
+        equivalent = self.gms_parameters()
+        static = equivalent["static_force"]
+        slips = [static * a / k for a, k in zip(equivalent["weight"], equivalent["stiffness"])
+                 if k > 0.0]
+        shortest = max(slips) / span
+        ratio = (max(slips) / shortest) ** (1.0 / (count - 1))
+        levels = {key: equivalent[key] for key in (
+            "attraction", "coulomb_force", "static_force", "stribeck_velocity",
+            "stribeck_exponent", "stribeck_shape", "viscous_coefficient")}
+        return GMS(stiffness=[static / count / (shortest * ratio ** i) for i in range(count)],
+                   weight=[1.0 / count] * count, **levels)
+
+    def peers(self) -> dict:
+        """LuGre with the parameters of 1995, a phenomenological GMS and the Maxwell-slip limit
+        of this contact (:meth:`phenomenological_gms`, :meth:`equivalent_maxwell_slip`)."""
+        from polind.models.lugre import LuGre
+
+        return {
+            "LuGre": (LuGre.example(), "The LuGre model (the user guide, 'LuGre') with the "
+                      "parameters of Canudas de Wit et al. (1995)."),
+            "GMS": (self.phenomenological_gms(),
+                    "GMS (the user guide, 'Generalized Maxwell-slip (GMS)') with eight "
+                    "equal-weight elements whose slip distances are log-spaced from 1/30 of "
+                    "Pol-Ind's largest slip distance to it, and Pol-Ind's Stribeck curve and "
+                    "attraction: the same levels with a phenomenological element set."),
+            "Maxwell-slip": (self.equivalent_maxwell_slip(),
+                             "Maxwell-slip (the user guide, 'Maxwell-slip') with Pol-Ind's "
+                             "element stiffnesses and W_j = mu_s N alpha_j (summing to mu_s N): "
+                             "the rate-independent limit of the same contact."),
+        }
 
     # --- the stepping contract --------------------------------------------------------
 

@@ -54,7 +54,19 @@ class Coulomb(FrictionModel):
     """
 
     type = "coulomb"
-    parameters = (Param("coulomb_force", unit="N"),)
+    title = "Coulomb"
+    form = "`F = Fc sgn(v)`"
+    purpose = "the simplest compensation term; no presliding, no memory"
+    guide = "guide-static-models"
+
+    @classmethod
+    def example_parameters(cls, elements=None):
+        """Fc = 1 N."""
+        return {"coulomb_force": 1.0}
+
+    parameters = (Param("coulomb_force", unit="N",
+          description=("Coulomb (kinetic) friction level :math:`F_c`: the force of steady "
+                       "sliding well above the Stribeck velocity."), symbol="F_c"),)
     phenomena = frozenset({"non_drifting"})
     fit_defaults = ("coulomb_force",)
 
@@ -93,6 +105,19 @@ class Stribeck(FrictionModel):
     """
 
     type = "stribeck"
+    title = "Stribeck"
+    form = "`F = g(v) sgn(v) + sigma2 v`"
+    purpose = "steady-state friction maps (Stribeck dip) in velocity control"
+    guide = "guide-static-models"
+
+    @classmethod
+    def example_parameters(cls, elements=None):
+        """The levels of the LuGre set of 1995: Fc = 1 N, Fs = 1.5 N, vs = 1 mm/s,
+        sigma2 = 0.4 N s/m."""
+        return {"coulomb_force": 1.0, "static_force": 1.5, "stribeck_velocity": 1e-3,
+                "stribeck_exponent": 2.0, "viscous_coefficient": 0.4,
+                "stribeck_shape": "exponential"}
+
     parameters = STRIBECK_PARAMS + (VISCOUS,)
     phenomena = frozenset({"non_drifting"})
     fit_defaults = ("coulomb_force", "static_force", "stribeck_velocity")
