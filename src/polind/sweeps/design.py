@@ -213,7 +213,7 @@ class Sweep:
         to ``{"values": [...]}`` or ``{"range": [low, high], "scale":
         "linear" | "log", "count": N}`` (``count``: the grid's points).
     metrics : sequence of str
-        Names in :data:`METRICS`.
+        Names in :data:`~polind.sweeps.METRICS`.
     method : {"grid", "latin-hypercube", "random"}
     samples : int, optional
         Runs of a Latin-hypercube or random design.

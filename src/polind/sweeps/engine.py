@@ -199,7 +199,7 @@ def sweep(spec, output, *, workers=None, scheduler=None, max_runs=MAX_RUNS,
     Parameters
     ----------
     spec : Sweep, str or os.PathLike
-        A :class:`Sweep` or a sweep file (:func:`load_sweep`).
+        A :class:`~polind.sweeps.Sweep` or a sweep file (:func:`~polind.sweeps.load_sweep`).
     output : str or os.PathLike
         The results table, ``.parquet`` or ``.csv``.  If it exists, it must
         hold rows of this sweep (else InputError); their runs are not run again.

@@ -50,7 +50,8 @@ def plot_results(results, spec, path, *, metrics=None, title=None, dpi=100) -> N
     Parameters
     ----------
     results : str, os.PathLike or dict
-        The results table (a file, or columns as :func:`read_results` gives).
+        The results table (a file, or columns as :func:`~polind.sweeps.read_results`
+        gives).
     spec : Sweep or str
         The sweep that made them (its axes say which scale to draw).
     path : str or os.PathLike

@@ -40,8 +40,8 @@ class Results:
 
     CSV rows are appended to the file as they come (a row per line, in the
     order runs finish).  A Parquet file is rewritten whole, atomically, at
-    most every :data:`_FLUSH_SECONDS` and at the end, its rows sorted by run;
-    its metadata records the sweep's :meth:`Sweep.fingerprint`.
+    most every ``_FLUSH_SECONDS`` and at the end, its rows sorted by run;
+    its metadata records the sweep's :meth:`~polind.sweeps.Sweep.fingerprint`.
     """
 
     def __init__(self, path, plan: Sweep, design: list[tuple]):
