@@ -41,7 +41,7 @@ import polind
 from polind.demo import LUGRE_1995
 from polind.dynamics import System
 from polind.models.pol_ind import default_table
-from polind.sweep import Sweep, read_results
+from polind.sweeps import Sweep, read_results
 
 METRICS = ["stuck_fraction", "stick_slip_amplitude", "stick_slip_period"]
 

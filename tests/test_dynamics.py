@@ -534,7 +534,7 @@ def test_a_system_file_reads_as_its_python_system(tmp_path):
 
 def test_polind_dynamics_and_polind_sweep_give_the_message_of_load_system(tmp_path, capsys):
     from polind.cli import _run
-    from polind.sweep import load_sweep
+    from polind.sweeps import load_sweep
 
     path = _system_file(tmp_path, [("stiffness = 2.0", "stiffness = -2.0")])
     with pytest.raises(InputError) as error:

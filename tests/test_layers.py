@@ -31,7 +31,7 @@ PACKAGE = "polind"
 LAYERS = (
     ("cli",),
     ("demo", "report", "bench"),
-    ("phenomena", "sweep"),
+    ("phenomena", "sweeps"),
     ("identification", "comparison"),
     ("control", "stepper", "dynamics", "simulate"),
     ("models",),

@@ -54,7 +54,7 @@ def test_a_small_simulate_imports_only_what_it_uses(tmp_path):
     # numba loads scipy.linalg for its own registry; nothing else of SciPy is needed.
     unused = ("matplotlib", "pyarrow", "dask", "distributed", "SurfaceTopography",
               "polind.contact", "polind.topography", "polind.identification", "polind.report",
-              "polind.phenomena", "polind.sweep", "polind.dynamics")
+              "polind.phenomena", "polind.sweeps", "polind.dynamics")
     assert [name for name in unused if name in modules] == []
     assert "numba" in modules                     # the check above looked at a real run
 

@@ -1,4 +1,4 @@
-"""polind.sweep and `polind sweep` (INTERFACE.md "Sweeps").
+"""polind.sweep, the package polind.sweeps and `polind sweep` (INTERFACE.md "Sweeps").
 
 The runs are small (LuGre of 1995, a few thousand steps each) so that the
 tests time the bookkeeping, not the physics: rows equal direct runs, the
@@ -24,8 +24,8 @@ import polind
 from polind.demo import LUGRE_1995
 from polind.dynamics import System, simulate_system
 from polind.errors import InputError
-from polind.sweep import (MAX_RUNS, METRICS, Sweep, SweepInterrupted, load_sweep, plot_results,
-                          read_results, register_metric)
+from polind.sweeps import (MAX_RUNS, METRICS, Sweep, SweepInterrupted, load_sweep, plot_results,
+                           read_results, register_metric)
 
 try:
     from test_cli import no_debug, run  # noqa: F401 - no_debug is an autouse fixture
@@ -242,7 +242,7 @@ def test_a_dask_cluster_of_two_processes_gives_identical_rows(files, tmp_path):
 
 
 def test_an_unreachable_scheduler_is_one_line_and_exit_2(files, tmp_path, capsys, monkeypatch):
-    monkeypatch.setattr(sys.modules["polind.sweep"], "_CONNECT_TIMEOUT", "1s")
+    monkeypatch.setattr(sys.modules["polind.sweeps.engine"], "_CONNECT_TIMEOUT", "1s")
     status, _, err = run(capsys, "sweep", files(), "--output", tmp_path / "r.csv",
                          "--scheduler", "tcp://127.0.0.1:9")
     assert status == 2 and err.count("\n") == 1 and "127.0.0.1:9" in err, err
@@ -416,13 +416,29 @@ def test_a_metric_that_needs_a_body_is_refused_over_a_motion(tmp_path):
 
 # --- the module, the registry, the figure -----------------------------------------------------
 
-def test_polind_sweep_is_callable_whichever_import_comes_first():
-    for code in ("import polind; f = polind.sweep; import polind.sweep as m; "
-                 "assert m is f and callable(f) and 'loop_area' in m.METRICS",
-                 "import polind.sweep as m; import polind; "
-                 "assert polind.sweep is m and callable(polind.sweep)"):
+def test_polind_sweep_is_the_function_and_polind_sweeps_the_package_whichever_comes_first():
+    import importlib.util
+    import inspect
+    import types
+
+    for code in ("import polind; f = polind.sweep; import polind.sweeps as m; "
+                 "assert m.sweep is f and polind.sweep is f and callable(f) "
+                 "and 'loop_area' in m.METRICS",
+                 "import polind.sweeps as m; import polind; "
+                 "assert polind.sweeps is m and polind.sweep is m.sweep and callable(polind.sweep)",
+                 "import polind; m = polind.sweeps; "
+                 "assert polind.sweep is m.sweep and 'loop_area' in m.METRICS"):
         subprocess.run([sys.executable, "-c", code], check=True)
-    assert callable(polind.sweep) and polind.sweep.METRICS is METRICS
+    assert inspect.isfunction(polind.sweep) and polind.sweep.__name__ == "sweep"
+    assert isinstance(polind.sweeps, types.ModuleType) and not callable(polind.sweeps)
+    assert polind.sweeps.sweep is polind.sweep and polind.sweeps.METRICS is METRICS
+    assert importlib.util.find_spec("polind.sweep") is None      # no module of that name
+    # The public surface: polind.sweeps exports what the tests, the docs and the CLI use.
+    for name in ("Sweep", "SweepSummary", "SweepInterrupted", "load_sweep", "read_results",
+                 "plot_results", "METRICS", "NEEDS", "register_metric", "MAX_RUNS", "SWEEP_KEYS",
+                 "Metric", "RunOutput", "sweep"):
+        assert name in polind.sweeps.__all__ and getattr(polind.sweeps, name) is not None, name
+    assert polind.SweepSummary is polind.sweeps.SweepSummary and "SweepSummary" in polind.__all__
 
 
 def test_every_metric_is_defined_in_the_readme():

@@ -14,7 +14,7 @@ cannot drift from what polind reads and writes):
     The keys of a ``[system]`` file (``polind.dynamics.FILE_KEYS`` and the
     file reader's schema).
 ``.. polind-sweep-keys::`` and ``.. polind-sweep-metrics::``
-    The keys of a ``[sweep]`` table and the metrics of ``polind.sweep.METRICS``.
+    The keys of a ``[sweep]`` table and the metrics of ``polind.sweeps.METRICS``.
 ``.. polind-columns:: motion|data``
     The columns of a motion file and of a measured-data file.
 ``.. polind-default-bounds::``
@@ -268,11 +268,11 @@ class SweepKeys(SphinxDirective):
     }
 
     def run(self):
-        from polind.sweep import _SWEEP_KEYS
+        from polind.sweeps import SWEEP_KEYS
 
         source, line = self.get_source_info()
         rows = []
-        for key in _SWEEP_KEYS:
+        for key in SWEEP_KEYS:
             what = self.WHAT.get(key)
             if what is None:
                 logger.warning(f"the [sweep] key '{key}' has no description in "
@@ -283,10 +283,10 @@ class SweepKeys(SphinxDirective):
 
 
 class SweepMetrics(SphinxDirective):
-    """The metrics a sweep can keep (polind.sweep.METRICS)."""
+    """The metrics a sweep can keep (polind.sweeps.METRICS)."""
 
     def run(self):
-        from polind.sweep import METRICS, NEEDS
+        from polind.sweeps import METRICS, NEEDS
 
         rows = []
         for name, metric in METRICS.items():
@@ -383,7 +383,7 @@ API_GROUPS = (
                                        "simulate_system")),
     ("Identification", ("identify", "FitResult", "identify_maxwell_slip", "identify_gms",
                         "identify_stribeck", "compare")),
-    ("Sweeps", ("sweep",)),
+    ("Sweeps", ("sweep", "SweepSummary")),
     ("Errors", ("InputError",)),
 )
 
@@ -391,6 +391,7 @@ SUBPACKAGES = (
     ("polind.contact", "Contact mechanics of the Pol-Ind model"),
     ("polind.topography", "Measured surfaces"),
     ("polind.control", "python-control systems"),
+    ("polind.sweeps", "Parameter sweeps"),
 )
 
 # Modules documented whole (every public function, class and documented constant), for
@@ -412,6 +413,9 @@ MODULES = (
                                              "polind.topography.summits",
                                              "polind.topography.analysis",
                                              "polind.topography.figure")),
+    ("Sweeps, module by module", ("polind.sweeps.design", "polind.sweeps.metrics",
+                                  "polind.sweeps.runs", "polind.sweeps.results",
+                                  "polind.sweeps.engine", "polind.sweeps.plot")),
     ("Compiled kernels", ("polind.kernels.contract", "polind.kernels.mount",
                           "polind.kernels.series", "polind.kernels.dynamics",
                           "polind.kernels.elements", "polind.kernels.separation",

@@ -23,7 +23,8 @@ __all__ = ["InputError", "MODEL_TYPES", "FrictionModel", "State", "SimulationRes
            "StepFunctions", "StepKernel", "register_model", "unregister_model", "Param", "Table", "Stepper", "Body",
            "load_model", "model_from_dict", "save_model", "simulate", "System", "SystemResult",
            "load_system", "simulate_system", "identify", "FitResult",
-           "identify_maxwell_slip", "identify_gms", "identify_stribeck", "compare", "sweep"]
+           "identify_maxwell_slip", "identify_gms", "identify_stribeck", "compare", "sweep",
+           "SweepSummary"]
 __version__ = "0.1.0"
 
 # Every export but InputError is imported on first use (PEP 562), so that
@@ -45,20 +46,21 @@ _LAZY = {"MODEL_TYPES": "polind.models", "FrictionModel": "polind.models",
          "Stepper": "polind.stepper", "Body": "polind.stepper",
          "System": "polind.dynamics", "SystemResult": "polind.dynamics",
          "load_system": "polind.dynamics", "simulate_system": "polind.dynamics",
-         "sweep": "polind.sweep"}
+         "sweep": "polind.sweeps", "SweepSummary": "polind.sweeps"}
 
 
 def __getattr__(name):
     if name in _LAZY:
         import importlib
 
-        module = importlib.import_module(_LAZY[name])
-        # polind.sweep is its module, made callable (polind.sweep(...) runs a sweep), so that
-        # it is the same object whether `import polind.sweep` or this came first.
-        value = module if module.__name__ == f"{__name__}.{name}" and callable(module) \
-            else getattr(module, name)
+        value = getattr(importlib.import_module(_LAZY[name]), name)
         globals()[name] = value
         return value
+    if name == "sweeps":
+        # The package of polind.sweep (polind.sweeps.Sweep, ...), imported on first use too.
+        import importlib
+
+        return importlib.import_module(f"{__name__}.{name}")
     raise AttributeError(f"module 'polind' has no attribute {name!r}")
 
 

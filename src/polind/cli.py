@@ -637,8 +637,8 @@ def sweep(sweep_path, output_path, workers, scheduler, yes, plot_path):
     seconds.  A failed run is a row and the sweep goes on; Ctrl-C stops it
     with every finished row kept.
     """
-    from polind.sweep import MAX_RUNS, SweepInterrupted, load_sweep, plot_results
-    from polind.sweep import sweep as run_sweep
+    from polind.sweeps import MAX_RUNS, SweepInterrupted, load_sweep, plot_results
+    from polind.sweeps import sweep as run_sweep
 
     if workers is not None and scheduler is not None:
         raise InputError("--workers and --scheduler: give one (local threads or a Dask "

@@ -1,0 +1,301 @@
+"""The engines of a sweep, and :func:`sweep`, which runs one.
+
+Each run is a pure function of its parameter values
+(:func:`polind.sweeps.runs.run_one`), so a run's row does not depend on
+where it ran: local worker threads (the numba kernels release the GIL), or
+the workers of an existing Dask distributed cluster.  :func:`sweep` checks
+the sweep and its output, computes the runs missing from the results table
+(:class:`polind.sweeps.results.Results`) on one engine, writes their rows as
+they finish, and returns a :class:`SweepSummary`; Ctrl-C stops it with every
+finished row kept (:class:`SweepInterrupted`).
+"""
+
+from __future__ import annotations
+
+import itertools
+import os
+import threading
+import time
+from dataclasses import dataclass, field
+
+from polind.dynamics import BYTES_PER_SAMPLE
+from polind.errors import InputError, describe
+from polind.io import STDOUT, check_output_path
+from polind.resources import check_memory
+from polind.sweeps.design import Sweep, is_number, load_sweep
+from polind.sweeps.results import Results
+from polind.sweeps.runs import RunPlan, one_line, run_one
+
+__all__ = ["MAX_RUNS", "SweepInterrupted", "SweepSummary", "sweep"]
+
+#: A sweep with more runs than this is refused unless the caller confirms
+#: (``max_runs=None`` in Python, ``--yes`` on the command line).
+MAX_RUNS = 10_000
+
+#: How long to try to reach a Dask scheduler before giving up.
+_CONNECT_TIMEOUT = "10s"
+
+#: What a prescribed-motion run holds per sample (t, x, v, F and the step arrays) [bytes].
+_MOTION_BYTES_PER_SAMPLE = 64
+
+
+# --- the engines ----------------------------------------------------------------------------
+
+def _run_local(plan: RunPlan, todo, workers: int, record, keep) -> None:
+    """Every run of ``todo`` (index, values) on ``workers`` threads, each row to ``record``.
+
+    At most two runs per thread wait in the queue.  On any exception here
+    (Ctrl-C, a ``record`` that raises) the queued runs are dropped, the
+    running ones stop at their next progress report, the rows of the runs
+    that finished all the same go to ``keep``, and the exception goes on.
+    """
+    from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
+
+    stop = threading.Event()
+    queue = iter(todo)
+    unrecorded = set()
+    pool = ThreadPoolExecutor(max_workers=workers, thread_name_prefix="polind-sweep")
+    try:
+        while True:
+            for index, values in itertools.islice(queue, 2 * workers - len(unrecorded)):
+                unrecorded.add(pool.submit(run_one, plan, index, values, stop))
+            if not unrecorded:
+                return
+            finished, _ = wait(unrecorded, return_when=FIRST_COMPLETED)
+            for future in sorted(finished, key=lambda f: f.result()["run"]):
+                unrecorded.discard(future)
+                record(future.result())
+    finally:
+        stop.set()
+        for future in unrecorded:
+            future.cancel()
+        pool.shutdown(wait=True)
+        for future in unrecorded:
+            if not future.cancelled() and future.exception() is None:
+                keep(future.result())
+
+
+def _dask_task(plan, index, values):
+    return run_one(plan, index, values)
+
+
+def _run_dask(plan: RunPlan, todo, scheduler, record, keep, lost) -> None:
+    """Every run of ``todo`` as a task of an existing Dask cluster; rows to ``record``.
+
+    ``scheduler`` is an address or a ``distributed.Client``.  A task that
+    fails outside its run (its worker died) is ``lost``: it is not recorded,
+    and running the sweep again computes it.  On any exception here (Ctrl-C)
+    the unfinished tasks are cancelled, the rows of finished ones not yet
+    recorded go to ``keep``, and the exception goes on.
+    """
+    import uuid
+
+    try:
+        from distributed import Client, as_completed
+    except ImportError:  # pragma: no cover - a dependency of polind
+        raise InputError("--scheduler needs the 'distributed' package (pip install "
+                         "'dask[distributed]')") from None
+    own = not isinstance(scheduler, Client)
+    if own:
+        try:
+            client = Client(scheduler, timeout=_CONNECT_TIMEOUT)
+        except (OSError, TimeoutError, ValueError) as error:
+            raise InputError(f"cannot reach the Dask scheduler at {scheduler!r} "
+                             f"({one_line(error)}); expected the address of a running "
+                             f"cluster, such as tcp://HOST:8786") from None
+    else:
+        client = scheduler
+    tag = uuid.uuid4().hex[:8]
+    unrecorded = set()
+    try:
+        shared = client.scatter(plan, broadcast=True, hash=False)
+        unrecorded = {client.submit(_dask_task, shared, index, values, pure=False,
+                                    key=f"polind-sweep-{tag}-{index}") for index, values in todo}
+        for future in as_completed(list(unrecorded)):
+            unrecorded.discard(future)
+            if future.status == "finished":
+                record(future.result())
+            else:
+                lost(future)
+    finally:
+        finished = [future for future in unrecorded if future.status == "finished"]
+        client.cancel([future for future in unrecorded if future.status == "pending"])
+        for future in sorted(finished, key=lambda f: f.key):
+            keep(future.result())
+        if own:
+            client.close()
+
+
+# --- the sweep ------------------------------------------------------------------------------
+
+@dataclass
+class SweepSummary:
+    """What :func:`sweep` did.
+
+    Attributes
+    ----------
+    path : str
+        The results table.
+    runs : int
+        Runs of the design.
+    computed : int
+        Runs computed now (the others were already in the table).
+    failed : int
+        Of those, runs whose status is an error.
+    lost : int
+        Dask tasks that failed outside their run (not recorded: run again).
+    seconds : float
+        Wall time of this call [s].
+    table : dict
+        Every row of the table now, sorted by run: column name to list.
+    """
+
+    path: str
+    runs: int
+    computed: int
+    failed: int
+    lost: int
+    seconds: float
+    table: dict = field(repr=False)
+
+    @property
+    def existing(self) -> int:
+        """Runs found in the table before this call."""
+        return len(self.table["run"]) - self.computed
+
+
+class SweepInterrupted(KeyboardInterrupt):
+    """Ctrl-C stopped a sweep; every finished row is in its table.
+
+    ``computed`` runs were added by the interrupted call, ``runs`` the whole
+    design, ``done`` the rows the table holds now.
+    """
+
+    def __init__(self, path, runs, computed, done):
+        super().__init__(f"{path}: interrupted with {done} of {runs} runs written")
+        self.path, self.runs, self.computed, self.done = path, runs, computed, done
+
+
+def _check_output(path, plan: Sweep):
+    name = os.fspath(path)
+    if name == STDOUT or not name.lower().endswith((".parquet", ".csv")):
+        raise InputError(f"{name}: a sweep's results go to a file whose name ends in .parquet "
+                         f"or .csv (so that a second run can find its rows)")
+    check_output_path(name, plan.inputs)
+    if os.path.exists(name) and not os.path.isfile(name):
+        raise InputError(f"{name}: not a regular file; expected a .parquet or .csv file")
+
+
+def _default_workers() -> int:
+    if hasattr(os, "sched_getaffinity"):
+        return max(1, len(os.sched_getaffinity(0)))
+    return os.cpu_count() or 1
+
+
+def sweep(spec, output, *, workers=None, scheduler=None, max_runs=MAX_RUNS,
+          progress=None) -> SweepSummary:
+    """Run a sweep; rows go to ``output`` as runs finish; only missing runs are computed.
+
+    Parameters
+    ----------
+    spec : Sweep, str or os.PathLike
+        A :class:`~polind.sweeps.Sweep` or a sweep file (:func:`~polind.sweeps.load_sweep`).
+    output : str or os.PathLike
+        The results table, ``.parquet`` or ``.csv``.  If it exists, it must
+        hold rows of this sweep (else InputError); their runs are not run again.
+    workers : int, optional
+        Local worker threads; default the number of cores.
+    scheduler : str or distributed.Client, optional
+        Run on an existing Dask cluster (its address, ``tcp://HOST:PORT``)
+        instead of local threads.  Its workers need polind installed.
+    max_runs : int or None
+        Refuse a design with more runs (None: no limit).
+    progress : callable, optional
+        ``progress(done, total, failed)`` after each run (``total``: the runs
+        this call computes).  An exception it raises stops the sweep as
+        Ctrl-C does.
+
+    Returns
+    -------
+    SweepSummary
+
+    Raises
+    ------
+    InputError
+        A bad sweep, an output of another sweep, too many runs.
+    SweepInterrupted
+        Ctrl-C (a KeyboardInterrupt): finished rows are in the table.
+    """
+    started = time.perf_counter()
+    plan = spec if isinstance(spec, Sweep) else load_sweep(spec)
+    name = os.fspath(output)
+    _check_output(name, plan)
+    if workers is not None and scheduler is not None:
+        raise InputError("give 'workers' (local threads) or 'scheduler' (a Dask cluster), "
+                         "not both")
+    if workers is not None and (not is_number(workers) or isinstance(workers, float)
+                                or workers < 1):
+        raise InputError(f"The number of 'workers' must be a positive integer. Got "
+                         f"{describe(workers)} instead.")
+    runs = plan.runs
+    if max_runs is not None and runs > max_runs:
+        raise InputError(f"{plan.name}: the sweep has {runs:,} runs, more than the limit of "
+                         f"{max_runs:,}; check the counts of [sweep.parameters] and "
+                         f"sweep.samples, or confirm with --yes (max_runs=None in Python)")
+    check_memory(runs * (len(plan.axes) + 2) * 64.0, f"{plan.name}: the design ({runs:,} runs)")
+    design = plan.design()
+    results = Results(name, plan, design)
+    todo = [(index, values) for index, values in enumerate(design) if index not in results.rows]
+    threads = _default_workers() if workers is None else int(workers)
+    if scheduler is None and todo:
+        _check_run_memory(plan, todo, min(threads, len(todo)))
+    counts = {"done": 0, "failed": 0, "lost": 0}
+
+    def keep(row):
+        results.add(row)
+        counts["done"] += 1
+        counts["failed"] += row["status"] != "ok"
+
+    def record(row):
+        keep(row)
+        if progress is not None:
+            progress(counts["done"], len(todo), counts["failed"])
+
+    def lost(future):
+        counts["lost"] += 1
+
+    if progress is not None:
+        progress(0, len(todo), 0)
+    try:
+        if todo and scheduler is not None:
+            _run_dask(plan.plan(), todo, scheduler, record, keep, lost)
+        elif todo:
+            _run_local(plan.plan(), todo, min(threads, len(todo)), record, keep)
+    except KeyboardInterrupt:
+        results.flush()
+        raise SweepInterrupted(name, runs, counts["done"], len(results.rows)) from None
+    finally:
+        results.flush()
+    return SweepSummary(path=name, runs=runs, computed=counts["done"], failed=counts["failed"],
+                        lost=counts["lost"], seconds=time.perf_counter() - started,
+                        table=results.table())
+
+
+def _check_run_memory(plan: Sweep, todo, threads):
+    """Refuse before starting when the runs at a time would pass the memory limit."""
+    if plan.system is not None:
+        samples = 0.0
+        positions = {key: j for j, key in enumerate(plan.keys)}
+        for _, values in todo:
+            duration = values[positions["system.duration"]] if "system.duration" in positions \
+                else plan.system["duration"]
+            step = values[positions["system.time_step"]] if "system.time_step" in positions \
+                else plan.system["time_step"]
+            if duration > 0.0 and step > 0.0:
+                samples = max(samples, duration / step)
+        need = samples * BYTES_PER_SAMPLE
+    else:
+        samples = float(len(plan.motion["t"]))
+        need = samples * _MOTION_BYTES_PER_SAMPLE
+    check_memory(threads * need, f"{plan.name}: {threads} runs at a time of up to "
+                                 f"{samples:.3g} samples each")
