@@ -534,7 +534,8 @@ MODULES = (
                                              "polind.topography.figure")),
     ("Compiled kernels", ("polind.kernels.contract", "polind.kernels.mount",
                           "polind.kernels.series", "polind.kernels.dynamics",
-                          "polind.kernels.elements", "polind.kernels.separation",
+                          "polind.kernels.elements", "polind.kernels.greenwood",
+                          "polind.kernels.separation",
                           "polind.kernels.special", "polind.kernels.fastexp")),
 )
 

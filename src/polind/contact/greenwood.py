@@ -10,8 +10,9 @@ surface needs ``F_0`` (asperities in contact), ``F_1`` (real area),
 
 Representations, chosen for relative accuracy over ``s`` in [-5, 10] (the
 range the separation solver allows).  The separation solver itself runs on
-the kernel's piecewise-polynomial pair (:mod:`polind.kernels.separation`,
-5e-15 relative); these are the references it is tested against:
+the kernels' piecewise-polynomial pair
+(:func:`polind.kernels.greenwood.gw_half_integer_pair_fast`, 5e-15
+relative); these are the references it is tested against:
 
 - ``F_0 = erfc(s/√2)/2``; ``F_1 = phi(s) - s F_0(s)``, written with
   ``erfcx`` for ``s >= 0`` so that nothing underflows before the difference.

@@ -2,7 +2,7 @@
 
 The Greenwood–Williamson load integrals ``F_{1/2}`` and ``F_{3/2}``
 (:ref:`guide-pol-ind-summation`) are written with ``kve`` and ``ive`` of orders ±1/4, ±3/4
-(:func:`polind.kernels.separation.gw_half_integer_pair`; the separation
+(:func:`polind.kernels.greenwood.gw_half_integer_pair`; the separation
 solver itself evaluates a faster polynomial approximation, and calls these
 only outside its range).  Inside a kernel these are SciPy's own
 compiled functions from :mod:`scipy.special.cython_special` (the ``double``
