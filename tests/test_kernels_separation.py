@@ -203,8 +203,12 @@ S_GRID = np.concatenate([np.linspace(-5.0, 10.0, 1501), [0.0, 1e-8, -1e-8, 2e-8,
 
 
 def test_constants_are_greenwoods():
-    for name in ("_F_MINUS_HALF_0", "_F_HALF_0", "_F_THREE_HALVES_0", "_TAYLOR_BELOW", "_SQRT_PI", "_SQRT_2"):
-        assert getattr(gw_kernels, name) == getattr(greenwood, name), name
+    """One copy of the pair's constants: the kernels', which contact.greenwood calls, equal to F_m(0)."""
+    for name in ("_F_MINUS_HALF_0", "_F_HALF_0", "_F_THREE_HALVES_0", "_TAYLOR_BELOW", "_SQRT_PI"):
+        assert not hasattr(greenwood, name), name
+    for name, m in (("_F_MINUS_HALF_0", -0.5), ("_F_HALF_0", 0.5), ("_F_THREE_HALVES_0", 1.5)):
+        assert getattr(gw_kernels, name) == pytest.approx(quadrature(m, 0.0), rel=1e-13, abs=0), name
+    assert (gw_kernels._SQRT_PI, gw_kernels._SQRT_2) == (math.sqrt(math.pi), math.sqrt(2.0))
 
 
 def test_pair_matches_half_integer_pair():

@@ -1,18 +1,20 @@
-"""The Greenwood–Williamson functions inside numba kernels.
+"""The Greenwood–Williamson functions inside numba kernels: the one implementation.
 
 The integrals of the Gaussian summit-height distribution that the
 statistical surface is made of, and the sums over summits that a direct
 surface is made of, as numba functions: model kernels and the separation
 solvers (:mod:`polind.kernels.separation`) call them per sample, and the
-contact layer (:mod:`polind.contact.surface`) sums a direct surface with
-:func:`tail_moments`.  With ``F_m(s) = ∫_s^∞ (t - s)^m phi(t) dt``
-(``phi`` the standard normal density):
+NumPy layer (:mod:`polind.contact.greenwood`, :mod:`polind.contact.surface`)
+calls the same compiled functions, so every layer computes them with one
+code.  With ``F_m(s) = ∫_s^∞ (t - s)^m phi(t) dt`` (``phi`` the standard
+normal density):
 
 - :func:`gw_half_integer_pair`: ``(F_{1/2}(s), F_{3/2}(s))`` from the
   modified Bessel functions of order ±1/4, ±3/4 (the parabolic-cylinder
   functions of half-integer order; SciPy's, through
   :mod:`polind.kernels.special`), with the Taylor series about 0; the
   formulas and their accuracy are in :mod:`polind.contact.greenwood`;
+  :func:`gw_half_integer_pairs` is the same at every element of an array;
 - :func:`gw_half_integer_pair_fast`: the same pair from piecewise
   polynomials on :data:`FAST_RANGE` (an approximation, relative error below
   5e-15 there; see "The fast pair" below), :func:`gw_half_integer_pair`
@@ -79,6 +81,7 @@ __all__ = [
     "FAST_RANGE",
     "INVERSE_PIECES",
     "gw_half_integer_pair",
+    "gw_half_integer_pairs",
     "gw_half_integer_pair_fast",
     "fast_pair",
     "inverse_position",
@@ -86,8 +89,6 @@ __all__ = [
     "tail_moments",
 ]
 
-# The constants of polind.contact.greenwood, recomputed here because kernels
-# must not import the contact layer (tests check that they are equal).
 _SQRT_PI = math.sqrt(math.pi)
 _SQRT_2 = math.sqrt(2.0)
 # F_m(0) = 2^(m/2) Γ((m+1)/2) / (2√π), half the absolute moment E|Z|^m.
@@ -105,7 +106,9 @@ _NEGATIVE_SCALE = _SQRT_PI / (4.0 * _SQRT_2)
 def gw_half_integer_pair(s, addresses):
     """``(F_{1/2}(s), F_{3/2}(s))`` of the standard normal density (:ref:`guide-pol-ind-summation`).
 
-    The formulas of :func:`polind.contact.greenwood.half_integer_pair`:
+    The formulas of :mod:`polind.contact.greenwood`, whose
+    :func:`~polind.contact.greenwood.half_integer_pair` and
+    :func:`~polind.contact.greenwood.gw_integral` call this function:
     ``s > 1e-8`` with ``kve`` of orders 1/4 and 3/4, ``s < -1e-8`` with
     ``ive`` of orders ±1/4, ±3/4, both at ``w = s²/4``, and the first-order
     Taylor series about 0 in between.
@@ -149,6 +152,31 @@ def gw_half_integer_pair(s, addresses):
         return math.nan, math.nan
     return _F_HALF_0 - 0.5 * _F_MINUS_HALF_0 * s, _F_THREE_HALVES_0 - 1.5 * _F_HALF_0 * s
 
+
+@jit(fastmath=False)
+def gw_half_integer_pairs(s, addresses):
+    """:func:`gw_half_integer_pair` at every element of ``s``: the vectorised pair.
+
+    What :func:`polind.contact.greenwood.gw_integral` evaluates arrays with.
+
+    Parameters
+    ----------
+    s : numpy.ndarray
+        Normalised separations ``d / sigma_a`` [-], one-dimensional.
+    addresses : numpy.ndarray
+        :func:`polind.kernels.special.special_addresses`.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``F_{1/2}`` and ``F_{3/2}`` at each ``s``, with the special values
+        of :func:`gw_half_integer_pair`.
+    """
+    f_half = np.empty(s.size)
+    f_three_halves = np.empty(s.size)
+    for index in range(s.size):
+        f_half[index], f_three_halves[index] = gw_half_integer_pair(s[index], addresses)
+    return f_half, f_three_halves
 
 
 # --------------------------------------------------------------------------- the fast pair

@@ -7,9 +7,8 @@ solver itself evaluates a faster polynomial approximation, and calls these
 only outside its range).  Inside a kernel these are SciPy's own
 compiled functions from :mod:`scipy.special.cython_special` (the ``double``
 specialisations ``__pyx_fuse_1kve`` and ``__pyx_fuse_1ive``, the same code
-as the ufuncs ``scipy.special.kve``/``ive``), not an approximation of ours, so
-a kernel and the Python formulas of :mod:`polind.contact.greenwood` agree to
-the last bit.
+as the ufuncs ``scipy.special.kve``/``ive``), not an approximation of ours:
+a kernel gets from them what the ufuncs return, to the last bit.
 
 Why the addresses are an argument: a function pointer that numba sees as a
 global (a ``ctypes`` or ``cffi`` object, or an integer address frozen as a
