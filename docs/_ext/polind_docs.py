@@ -531,7 +531,7 @@ MODULES = (
     ("Measured surfaces, module by module", ("polind.topography.heightmap",
                                              "polind.topography.summits",
                                              "polind.topography.analysis",
-                                             "polind.topography.figure")),
+                                             "polind.topography_figure")),
     ("Compiled kernels", ("polind.kernels.contract", "polind.kernels.mount",
                           "polind.kernels.series", "polind.kernels.dynamics",
                           "polind.kernels.elements", "polind.kernels.greenwood",
