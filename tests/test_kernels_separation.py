@@ -23,15 +23,15 @@ from polind.contact import greenwood
 from polind.contact.greenwood import half_integer_pair
 from polind.contact.separation import RELATIVE_TOLERANCE, solve_separation, solve_separation_series
 from polind.contact.surface import DirectSurface, StatisticalSurface
+from polind.kernels import greenwood as gw_kernels
 from polind.kernels import separation as kernels
+from polind.kernels.greenwood import gw_half_integer_pair, gw_half_integer_pair_fast
 from polind.kernels.separation import (
     DIRECT,
     STATISTICAL,
     STATISTICAL_STOP,
     direct_load_and_slope,
     direct_lower_bound,
-    gw_half_integer_pair,
-    gw_half_integer_pair_fast,
     newton_separation,
     newton_separation_counted,
     newton_separation_series,
@@ -143,8 +143,8 @@ CACHE_SCRIPT = textwrap.dedent(
     from numba.core.errors import NumbaWarning
     warnings.simplefilter("error", NumbaWarning)
     import numpy as np
-    from polind.kernels.separation import (STATISTICAL, newton_separation, gw_half_integer_pair,
-                                           gw_half_integer_pair_fast)
+    from polind.kernels.greenwood import gw_half_integer_pair, gw_half_integer_pair_fast
+    from polind.kernels.separation import STATISTICAL, newton_separation
     from polind.kernels.special import kve, special_addresses
 
     addresses = special_addresses()
@@ -179,7 +179,7 @@ def test_kernels_calling_scipy_are_cached(tmp_path):
         assert first[name] == (0, 1)            # compiled and saved
         assert second[name] == (1, 0)           # loaded from the cache
     files = [path.name for path in (tmp_path / "cache").rglob("*")]
-    for stem in ("special.kve", "separation.gw_half_integer_pair-", "separation.gw_half_integer_pair_fast",
+    for stem in ("special.kve", "greenwood.gw_half_integer_pair-", "greenwood.gw_half_integer_pair_fast",
                  "separation.newton_separation-"):
         for suffix in (".nbi", ".nbc"):
             found = any(name.startswith(stem) and name.endswith(suffix) for name in files)
@@ -187,7 +187,7 @@ def test_kernels_calling_scipy_are_cached(tmp_path):
 
 
 def test_kernels_do_not_import_the_layers_above():
-    for module in ("special.py", "separation.py"):
+    for module in ("special.py", "greenwood.py", "separation.py"):
         tree = ast.parse((Path(kernels.__file__).parent / module).read_text())
         imported = [alias.name for node in ast.walk(tree) if isinstance(node, ast.Import)
                     for alias in node.names]
@@ -203,8 +203,12 @@ S_GRID = np.concatenate([np.linspace(-5.0, 10.0, 1501), [0.0, 1e-8, -1e-8, 2e-8,
 
 
 def test_constants_are_greenwoods():
-    for name in ("_F_MINUS_HALF_0", "_F_HALF_0", "_F_THREE_HALVES_0", "_TAYLOR_BELOW", "_SQRT_PI", "_SQRT_2"):
-        assert getattr(kernels, name) == getattr(greenwood, name), name
+    """One copy of the pair's constants: the kernels', which contact.greenwood calls, equal to F_m(0)."""
+    for name in ("_F_MINUS_HALF_0", "_F_HALF_0", "_F_THREE_HALVES_0", "_TAYLOR_BELOW", "_SQRT_PI"):
+        assert not hasattr(greenwood, name), name
+    for name, m in (("_F_MINUS_HALF_0", -0.5), ("_F_HALF_0", 0.5), ("_F_THREE_HALVES_0", 1.5)):
+        assert getattr(gw_kernels, name) == pytest.approx(quadrature(m, 0.0), rel=1e-13, abs=0), name
+    assert (gw_kernels._SQRT_PI, gw_kernels._SQRT_2) == (math.sqrt(math.pi), math.sqrt(2.0))
 
 
 def test_pair_matches_half_integer_pair():

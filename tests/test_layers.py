@@ -30,7 +30,7 @@ PACKAGE = "polind"
 #: Top to bottom.  A layer may import its own layer and any layer below it.
 LAYERS = (
     ("cli",),
-    ("demo", "report", "bench"),
+    ("demo", "report", "bench", "topography_figure"),
     ("phenomena", "sweeps"),
     ("identification", "comparison"),
     ("control", "stepper", "dynamics", "simulate"),
@@ -243,13 +243,24 @@ def test_kernels_import_only_kernels():
     assert not bad, "the kernels may import only polind.kernels.*:\n" + "\n".join(bad)
 
 
-def test_contact_never_imports_models():
-    bad = [
+def imports_between(importer: str, imported: str) -> list[str]:
+    """``file:line: imports module`` for each import of ``polind.<imported>`` under ``polind.<importer>``."""
+    return [
         f"{path}:{line}: imports {target}"
-        for path, line, target in package_imports(f"{PACKAGE}.contact")
-        if target == f"{PACKAGE}.models" or target.startswith(f"{PACKAGE}.models.")
+        for path, line, target in package_imports(f"{PACKAGE}.{importer}")
+        if target == f"{PACKAGE}.{imported}" or target.startswith(f"{PACKAGE}.{imported}.")
     ]
+
+
+def test_contact_never_imports_models():
+    bad = imports_between("contact", "models")
     assert not bad, "contact must not import polind.models:\n" + "\n".join(bad)
+
+
+def test_topography_never_imports_contact():
+    # One layer, one way: contact builds surfaces from topography's results.
+    bad = imports_between("topography", "contact")
+    assert not bad, "topography must not import polind.contact:\n" + "\n".join(bad)
 
 
 # ---------------------------------------------------------------------------

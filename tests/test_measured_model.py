@@ -26,7 +26,7 @@ from polind import cli
 from polind.contact.surface import DirectSurface, StatisticalSurface
 from polind.models.pol_ind import default_table
 from polind.topography import HeightMap, analyse, load_measured_surface
-from polind.topography.figure import virgin_curves
+from polind.topography_figure import virgin_curves
 from test_topography import gaussian_field
 
 ROOT = Path(__file__).resolve().parents[1]

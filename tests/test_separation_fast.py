@@ -1,4 +1,4 @@
-"""The fast Greenwood–Williamson pair and the statistical start (polind.kernels.separation).
+"""The fast Greenwood–Williamson pair (polind.kernels.greenwood) and the statistical start (polind.kernels.separation).
 
 :func:`gw_half_integer_pair_fast` is an approximation (piecewise polynomials
 on [-5.5, 10.5)); these tests measure its error against three independent
@@ -20,14 +20,12 @@ from scipy import integrate
 
 from polind.contact.greenwood import half_integer_pair
 from polind.contact.surface import StatisticalSurface
-from polind.kernels import separation as kernels
+from polind.kernels import greenwood as kernels
+from polind.kernels.greenwood import FAST_RANGE, gw_half_integer_pair, gw_half_integer_pair_fast
 from polind.kernels.separation import (
-    FAST_RANGE,
     RELATIVE_TOLERANCE,
     STATISTICAL,
     STATISTICAL_STOP,
-    gw_half_integer_pair,
-    gw_half_integer_pair_fast,
     newton_separation_counted,
     statistical_load_and_slope,
     statistical_separation,

@@ -28,10 +28,10 @@ from scipy import integrate
 
 from polind import cli
 from polind.errors import InputError
-from polind.topography import (HeightMap, analyse, figure_png, find_summits, level,
+from polind.topography import (HeightMap, analyse, find_summits, level,
                                load_measured_surface, low_pass, mean_plane, read_height_map,
                                summit_curvatures)
-from polind.topography.figure import direct_normal_load, statistical_normal_load
+from polind.topography_figure import direct_normal_load, figure_png, statistical_normal_load
 
 ROOT = Path(__file__).resolve().parents[1]
 _DATA = [ROOT.parent / "shared" / "data" / "topography", Path("/work/shared/data/topography")]

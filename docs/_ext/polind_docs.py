@@ -412,13 +412,14 @@ MODULES = (
     ("Measured surfaces, module by module", ("polind.topography.heightmap",
                                              "polind.topography.summits",
                                              "polind.topography.analysis",
-                                             "polind.topography.figure")),
+                                             "polind.topography_figure")),
     ("Sweeps, module by module", ("polind.sweeps.design", "polind.sweeps.metrics",
                                   "polind.sweeps.runs", "polind.sweeps.results",
                                   "polind.sweeps.engine", "polind.sweeps.plot")),
     ("Compiled kernels", ("polind.kernels.contract", "polind.kernels.mount",
                           "polind.kernels.series", "polind.kernels.dynamics",
-                          "polind.kernels.elements", "polind.kernels.separation",
+                          "polind.kernels.elements", "polind.kernels.greenwood",
+                          "polind.kernels.separation",
                           "polind.kernels.special", "polind.kernels.fastexp")),
 )
 

@@ -312,7 +312,9 @@ def topography(map_path, as_json, plot_path, pixel_size, short_cutoff):
         surface = measured.load_measured_surface(map_path, pixel_size=pixel_size,
                                                  short_cutoff=short_cutoff)
     if plot_path is not None:
-        io.atomic_write_bytes(plot_path, measured.figure_png(surface))
+        from polind.topography_figure import figure_png
+
+        io.atomic_write_bytes(plot_path, figure_png(surface))
     summary = surface.summary()
     if as_json:
         click.echo(json.dumps(summary, allow_nan=False))

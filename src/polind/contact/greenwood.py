@@ -10,8 +10,9 @@ surface needs ``F_0`` (asperities in contact), ``F_1`` (real area),
 
 Representations, chosen for relative accuracy over ``s`` in [-5, 10] (the
 range the separation solver allows).  The separation solver itself runs on
-the kernel's piecewise-polynomial pair (:mod:`polind.kernels.separation`,
-5e-15 relative); these are the references it is tested against:
+the kernels' piecewise-polynomial pair
+(:func:`polind.kernels.greenwood.gw_half_integer_pair_fast`, 5e-15
+relative); these are the references it is tested against:
 
 - ``F_0 = erfc(s/√2)/2``; ``F_1 = phi(s) - s F_0(s)``, written with
   ``erfcx`` for ``s >= 0`` so that nothing underflows before the difference.
@@ -27,6 +28,11 @@ the kernel's piecewise-polynomial pair (:mod:`polind.kernels.separation`,
   * ``|s| < 1e-8``: first-order Taylor series about 0, because the Bessel
     forms are ``0·∞`` at ``s = 0``.
 
+  These formulas have one implementation, compiled:
+  :func:`polind.kernels.greenwood.gw_half_integer_pair`, which the kernels
+  call and which :func:`half_integer_pair` calls on one float and
+  :func:`gw_integral` on every element of an array
+  (:func:`polind.kernels.greenwood.gw_half_integer_pairs`).
   The exponentially scaled ``scipy.special.kve``/``ive`` keep every factor in
   range.  ``scipy.special.pbdv`` was rejected: its relative error reaches
   1e-9 near ``s = 6`` and it is about 5x slower.  Measured against
@@ -44,6 +50,8 @@ import numpy as np
 from scipy import special
 
 from polind.errors import InputError, describe
+from polind.kernels.greenwood import gw_half_integer_pair, gw_half_integer_pairs
+from polind.kernels.special import special_addresses
 
 __all__ = ["gw_integral", "half_integer_pair", "three_halves_inverse", "VALID_RANGE"]
 
@@ -51,59 +59,16 @@ __all__ = ["gw_integral", "half_integer_pair", "three_halves_inverse", "VALID_RA
 #: 1e-10 relative accuracy and which the separation solver accepts.
 VALID_RANGE = (-5.0, 10.0)
 
-_kve = special.kve
-_ive = special.ive
-_SQRT_PI = math.sqrt(math.pi)
 _INV_SQRT_2PI = 1.0 / math.sqrt(2.0 * math.pi)
 _SQRT_2 = math.sqrt(2.0)
-# F_m(0) = 2^(m/2) Γ((m+1)/2) / (2√π), half the absolute moment E|Z|^m.
-_F_MINUS_HALF_0 = 2.0**-0.25 * math.gamma(0.25) / (2.0 * _SQRT_PI)
-_F_HALF_0 = 2.0**0.25 * math.gamma(0.75) / (2.0 * _SQRT_PI)
-_F_THREE_HALVES_0 = 2.0**0.75 * math.gamma(1.25) / (2.0 * _SQRT_PI)
-# Below this |s| the Bessel forms lose their scale (0·∞); the Taylor series'
-# neglected s² term is then below 1e-16 relative.
-_TAYLOR_BELOW = 1e-8
-
-
-def _bessel_pair_positive(s):
-    """``(F_{1/2}, F_{3/2})`` for ``s > 0`` (scalar or array), K-Bessel form."""
-    w = 0.25 * s * s
-    k_quarter = special.kve(0.25, w)
-    k_three_quarters = special.kve(0.75, w)
-    gauss = np.exp(-0.5 * s * s) / (4.0 * _SQRT_PI)
-    root = np.sqrt(s)
-    f_minus_half = 2.0 * root * gauss * k_quarter
-    f_half = s * root * gauss * (k_three_quarters - k_quarter)
-    return f_half, 0.5 * f_minus_half - s * f_half
-
-
-def _bessel_pair_negative(s):
-    """``(F_{1/2}, F_{3/2})`` for ``s < 0`` (scalar or array), I-Bessel form."""
-    x = -s
-    w = 0.25 * x * x
-    i_quarter = special.ive(0.25, w) + special.ive(-0.25, w)
-    i_three_quarters = special.ive(0.75, w) + special.ive(-0.75, w)
-    scale = _SQRT_PI / (4.0 * _SQRT_2)
-    root = np.sqrt(x)
-    f_minus_half = 2.0 * scale * root * i_quarter
-    f_half = scale * x * root * (i_quarter + i_three_quarters)
-    # Both terms are positive here: no cancellation for s < 0.
-    return f_half, 0.5 * f_minus_half + x * f_half
-
-
-def _taylor_pair(s):
-    """``(F_{1/2}, F_{3/2})`` to first order about ``s = 0``."""
-    return (
-        _F_HALF_0 - 0.5 * _F_MINUS_HALF_0 * s,
-        _F_THREE_HALVES_0 - 1.5 * _F_HALF_0 * s,
-    )
 
 
 def half_integer_pair(s: float) -> tuple[float, float]:
-    """``(F_{1/2}(s), F_{3/2}(s))`` for one float ``s``, with Python floats.
+    """``(F_{1/2}(s), F_{3/2}(s))`` for one float ``s``, as Python floats.
 
-    The same formulas as :func:`gw_integral`, with Python floats and the
-    ``math`` module so that a call costs a few microseconds.
+    The compiled :func:`polind.kernels.greenwood.gw_half_integer_pair`, the
+    one implementation of the formulas above, called on one float (a few
+    microseconds, nearly all of them in SciPy's Bessel functions).
 
     Parameters
     ----------
@@ -113,49 +78,10 @@ def half_integer_pair(s: float) -> tuple[float, float]:
     Returns
     -------
     tuple of float
-        ``F_{1/2}(s)`` and ``F_{3/2}(s)``.
+        ``F_{1/2}(s)`` and ``F_{3/2}(s)``; ``(0, 0)`` at ``+inf``,
+        ``(inf, inf)`` at ``-inf``, NaN for NaN.
     """
-    s = float(s)
-    if s > _TAYLOR_BELOW:
-        if s == math.inf:
-            return 0.0, 0.0
-        w = 0.25 * s * s
-        k_quarter = float(_kve(0.25, w))
-        k_three_quarters = float(_kve(0.75, w))
-        gauss = math.exp(-0.5 * s * s) / (4.0 * _SQRT_PI)
-        root = math.sqrt(s)
-        f_half = s * root * gauss * (k_three_quarters - k_quarter)
-        return f_half, root * gauss * k_quarter - s * f_half
-    if s < -_TAYLOR_BELOW:
-        if s == -math.inf:
-            return math.inf, math.inf
-        x = -s
-        w = 0.25 * x * x
-        i_quarter = float(_ive(0.25, w)) + float(_ive(-0.25, w))
-        i_three_quarters = float(_ive(0.75, w)) + float(_ive(-0.75, w))
-        scale = _SQRT_PI / (4.0 * _SQRT_2)
-        root = math.sqrt(x)
-        f_half = scale * x * root * (i_quarter + i_three_quarters)
-        return f_half, scale * root * i_quarter + x * f_half
-    if s != s:
-        return math.nan, math.nan
-    f_half, f_three_halves = _taylor_pair(s)
-    return float(f_half), float(f_three_halves)
-
-
-def _half_integer_arrays(s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Vectorised ``(F_{1/2}, F_{3/2})``; each branch evaluated on its own samples."""
-    f_half = np.full(s.shape, np.nan)
-    f_three_halves = np.full(s.shape, np.nan)
-    positive = (s > _TAYLOR_BELOW) & np.isfinite(s)
-    negative = (s < -_TAYLOR_BELOW) & np.isfinite(s)
-    small = np.abs(s) <= _TAYLOR_BELOW
-    f_half[positive], f_three_halves[positive] = _bessel_pair_positive(s[positive])
-    f_half[negative], f_three_halves[negative] = _bessel_pair_negative(s[negative])
-    f_half[small], f_three_halves[small] = _taylor_pair(s[small])
-    f_half[s == np.inf] = f_three_halves[s == np.inf] = 0.0
-    f_half[s == -np.inf] = f_three_halves[s == -np.inf] = np.inf
-    return f_half, f_three_halves
+    return gw_half_integer_pair(float(s), special_addresses())
 
 
 def _upper_tail(s):
@@ -214,7 +140,8 @@ def gw_integral(m, s):
     elif order == 1.0:
         value = _first_moment(s_array)
     else:
-        f_half, f_three_halves = _half_integer_arrays(np.atleast_1d(s_array))
+        # The compiled pair at every element (polind.kernels.greenwood).
+        f_half, f_three_halves = gw_half_integer_pairs(np.ravel(s_array), special_addresses())
         value = (f_half if order == 0.5 else f_three_halves).reshape(s_array.shape)
     return float(value) if np.ndim(s) == 0 else value
 

@@ -33,7 +33,7 @@ from numba import njit
 from polind.contact._checks import positive_number
 from polind.contact.greenwood import VALID_RANGE, gw_integral, half_integer_pair
 from polind.errors import InputError, describe
-from polind.kernels.separation import tail_moments
+from polind.kernels.greenwood import tail_moments
 
 __all__ = [
     "StatisticalSurface",
@@ -159,7 +159,7 @@ class StatisticalSurface:
 
 @njit(cache=True)
 def _tail_moments_many(heights, counts, separations, out):
-    """:func:`~polind.kernels.separation.tail_moments` at every separation; ``out`` is (n, 4)."""
+    """:func:`~polind.kernels.greenwood.tail_moments` at every separation; ``out`` is (n, 4)."""
     for k in range(separations.size):
         number, root_sum, linear_sum, load_sum = tail_moments(heights, counts, separations[k])
         out[k, 0] = number

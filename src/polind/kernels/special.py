@@ -2,14 +2,13 @@
 
 The Greenwood–Williamson load integrals ``F_{1/2}`` and ``F_{3/2}``
 (:ref:`guide-pol-ind-summation`) are written with ``kve`` and ``ive`` of orders ±1/4, ±3/4
-(:func:`polind.kernels.separation.gw_half_integer_pair`; the separation
+(:func:`polind.kernels.greenwood.gw_half_integer_pair`; the separation
 solver itself evaluates a faster polynomial approximation, and calls these
 only outside its range).  Inside a kernel these are SciPy's own
 compiled functions from :mod:`scipy.special.cython_special` (the ``double``
 specialisations ``__pyx_fuse_1kve`` and ``__pyx_fuse_1ive``, the same code
-as the ufuncs ``scipy.special.kve``/``ive``), not an approximation of ours, so
-a kernel and the Python formulas of :mod:`polind.contact.greenwood` agree to
-the last bit.
+as the ufuncs ``scipy.special.kve``/``ive``), not an approximation of ours:
+a kernel gets from them what the ufuncs return, to the last bit.
 
 Why the addresses are an argument: a function pointer that numba sees as a
 global (a ``ctypes`` or ``cffi`` object, or an integer address frozen as a

@@ -21,6 +21,12 @@ Five panels (:func:`topography_figure`):
    sqrt(R_j delta_j)``, ``W_j = mu_s P_j``) against the 256-element table of
    the Greenwood–Williamson equivalent (:ref:`guide-measured-surfaces`).
 
+It draws a :class:`polind.topography.MeasuredSurface` (the map read and
+analysed by :mod:`polind.topography`) and computes panels 4 and 5 with the
+contact mechanics of :mod:`polind.contact`, which builds its surfaces from
+that result; so it sits above both packages, and :mod:`polind.topography`
+depends on nothing in :mod:`polind.contact`.
+
 matplotlib is imported here only, on first use; nothing is written to disk
 (the command line writes :func:`figure_png`'s bytes with its safe writer).
 """
