@@ -81,7 +81,7 @@ def test_compiled_entry_is_the_dispatchers_compiled_function():
 
 @pytest.mark.parametrize("model_type, n", [("maxwell-slip", 1024), ("gms", 7), ("lugre", 1)])
 def test_kernel_arrays_are_placed_in_their_pages(model_type, n):
-    from polind.models.base import SCALARS_OFFSET, STATE_OFFSET, TABLE_OFFSET, page_placed
+    from polind.models.kernel import SCALARS_OFFSET, STATE_OFFSET, TABLE_OFFSET, page_placed
 
     kernel = bench.bench_model(model_type, n).step_kernel()
     for values, offset in ((kernel.scalars, SCALARS_OFFSET), (kernel.table, TABLE_OFFSET),

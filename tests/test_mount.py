@@ -228,7 +228,7 @@ def test_mount_keys_are_checked_like_every_other_key():
 
 def test_the_rigid_mount_constant_matches_the_kernel_layout():
     from polind.kernels.mount import make_mount
-    from polind.models.base import _RIGID
+    from polind.models.kernel import RIGID as _RIGID
 
     np.testing.assert_array_equal(_RIGID, make_mount(force_scale=0.0))
 

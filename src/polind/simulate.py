@@ -1,7 +1,7 @@
 """Prescribed motion: :func:`simulate` (the user guide, :ref:`guide-simulate`).
 
 One contract serves every model.  The motion is validated here, cut into
-steps at constant velocity (:class:`~polind.models.base.Path`), and handed
+steps at constant velocity (:class:`~polind.models.state.Path`), and handed
 to the model's kernel; this module owns the bookkeeping (continuation from
 a saved state, the force at the first sample, the final state).
 """

@@ -191,7 +191,7 @@ class Stepper:
 
     @property
     def kernel(self):
-        """The model's :class:`~polind.models.base.StepKernel`, advanced by this stepper."""
+        """The model's :class:`~polind.models.kernel.StepKernel`, advanced by this stepper."""
         return self._kernel
 
     @property
