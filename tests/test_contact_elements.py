@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 from scipy import integrate
 
-from polind.contact.builder import build_contact, default_contact_parameters
+from polind.contact.builder import build_contact
+from polind.models import PolInd
 from polind.contact.elements import element_properties, element_table
 from polind.contact.materials import effective_moduli
 from polind.contact.separation import solve_separation, solve_separation_series
@@ -139,8 +140,19 @@ def test_table_as_surface_keeps_amontons_under_a_varying_load(statistical):
         assert W.sum() == pytest.approx(MU * load, rel=1e-9)
 
 
+def _contact_parameters(change=None):
+    """The default Pol-Ind table (its own example) with ``change`` merged into its tables."""
+    params = PolInd.example_parameters()
+    for key, value in (change or {}).items():
+        if isinstance(value, dict) and isinstance(params.get(key), dict):
+            params[key].update(value)
+        else:
+            params[key] = value
+    return params
+
+
 def test_default_contact_summary():
-    contact = build_contact()
+    contact = build_contact(_contact_parameters())
     summary = contact.summary()
     assert set(summary) == {"separation", "contacts", "real_area", "normal_load", "elements"}
     assert json.loads(json.dumps(summary)) == summary
@@ -155,7 +167,7 @@ def test_default_contact_summary():
 
 
 def test_direct_contact_from_seed_and_from_file(tmp_path):
-    params = default_contact_parameters()
+    params = _contact_parameters()
     params["nominal_area"] = 1.0            # not a contact key: ignored
     params["surface"]["nominal_area"] = 2e-6
     params["discretisation"]["summation"] = "direct"
@@ -192,4 +204,13 @@ def test_direct_contact_from_seed_and_from_file(tmp_path):
 )
 def test_bad_contact_parameters(change, match):
     with pytest.raises(InputError, match=match):
-        build_contact(change)
+        build_contact(_contact_parameters(change))
+
+
+@pytest.mark.parametrize("table, key", [(None, "normal_load"), ("surface", "height_std"),
+                                        ("materials", "poisson_ratio")])
+def test_a_missing_contact_key_is_named(table, key):
+    params = _contact_parameters()
+    del (params if table is None else params[table])[key]
+    with pytest.raises(InputError, match=f"Missing key '{key if table is None else f'{table}.{key}'}'"):
+        build_contact(params)

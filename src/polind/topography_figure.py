@@ -109,10 +109,10 @@ def statistical_normal_load(summits, radius, height_std, separations, effective_
 
 def _default_moduli() -> tuple[float, float]:
     """``(E*, G*)`` of the default Pol-Ind material pair (steel on steel)."""
-    from polind.contact.builder import default_contact_parameters
     from polind.contact.materials import effective_moduli
+    from polind.models import PolInd
 
-    materials = default_contact_parameters()["materials"]
+    materials = PolInd.example_parameters()["materials"]
     (E1, E2), (nu1, nu2) = materials["youngs_modulus"], materials["poisson_ratio"]
     return effective_moduli(E1, nu1, E2, nu2)
 

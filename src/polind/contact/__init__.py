@@ -15,7 +15,7 @@ from polind.contact.asperity import (
     slip_capacity,
     tangential_stiffness,
 )
-from polind.contact.builder import Contact, build_contact, build_surface, default_contact_parameters
+from polind.contact.builder import Contact, build_contact, build_surface
 from polind.contact.elements import ElementTable, element_properties, element_table
 from polind.contact.greenwood import VALID_RANGE, gw_integral
 from polind.contact.materials import effective_moduli, shear_modulus
@@ -31,7 +31,6 @@ __all__ = [
     "build_contact",
     "build_surface",
     "contact_radius",
-    "default_contact_parameters",
     "effective_moduli",
     "element_properties",
     "element_table",

@@ -12,7 +12,6 @@ elements), and the keys in :ref:`formats-model-files`.
 
 from __future__ import annotations
 
-import copy
 import os
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -24,34 +23,16 @@ from polind.contact.separation import solve_separation
 from polind.contact.surface import DirectSurface, StatisticalSurface
 from polind.errors import InputError, describe
 
-__all__ = ["Contact", "build_contact", "build_surface", "default_contact_parameters", "measured_surface"]
+__all__ = ["Contact", "build_contact", "build_surface", "measured_surface"]
 
-# The default Pol-Ind parameter set (a steel pair under 100 N; the formats page, 'Model files'),
-# restricted to the keys the contact mechanics reads.
-_DEFAULTS = {
-    "normal_load": 100.0,
-    "static_coefficient": 0.15,
-    "surface": {
-        "asperity_density": 1e10,
-        "nominal_area": 1e-4,
-        "asperity_radius": 50e-6,
-        "height_std": 0.5e-6,
-    },
-    "materials": {
-        "youngs_modulus": [210e9, 210e9],
-        "poisson_ratio": [0.3, 0.3],
-    },
-    "discretisation": {
-        "summation": "statistical",
-        "elements": 64,
-        "seed": 0,
-    },
-}
+class _Keys(dict):
+    """A sub-table of the model table: a missing key is an InputError naming it."""
 
+    table = ""
 
-def default_contact_parameters() -> dict:
-    """A fresh copy of the default contact keys of the pol-ind model table (:ref:`formats-model-files`)."""
-    return copy.deepcopy(_DEFAULTS)
+    def __missing__(self, key):
+        raise InputError(f"Missing key '{self.table}.{key}' for a pol-ind contact; the formats "
+                         f"page lists the keys of [model.{self.table}].")
 
 
 @dataclass(frozen=True, eq=False)
@@ -102,13 +83,21 @@ class Contact:
 
 
 def _table(params: Mapping, key: str) -> dict:
-    """A sub-table of the model table with the defaults filled in."""
+    """A sub-table of the model table (a missing key is an InputError naming it)."""
     given = params.get(key)
     if given is None:
         given = {}
     if not isinstance(given, Mapping):
         raise InputError(f"The '{key}' of pol-ind must be a table. Got {describe(given)}.")
-    return {**_DEFAULTS[key], **given}
+    keys = _Keys(given)
+    keys.table = key
+    return keys
+
+
+def _number(params: Mapping, key: str) -> float:
+    if key not in params:
+        raise InputError(f"Missing key '{key}' for a pol-ind contact.")
+    return positive_number(params[key], key)
 
 
 def _pair(table: Mapping, key: str) -> tuple:
@@ -122,12 +111,12 @@ def _pair(table: Mapping, key: str) -> tuple:
     return tuple(value)
 
 
-def build_contact(params: Mapping | None = None, base_dir=None, *, surface=None) -> Contact:
+def build_contact(params: Mapping, base_dir=None, *, surface=None) -> Contact:
     """Build the loaded contact of a pol-ind model table.
 
     Parameters
     ----------
-    params : mapping, optional
+    params : mapping
         The ``[model]`` table as nested dicts, with the keys
         ``normal_load`` [N], ``static_coefficient`` [-],
         ``surface`` = {``asperity_density`` [1/m^2], ``nominal_area`` [m^2],
@@ -135,9 +124,10 @@ def build_contact(params: Mapping | None = None, base_dir=None, *, surface=None)
         ``materials`` = {``youngs_modulus`` [Pa, Pa], ``poisson_ratio`` [-, -]},
         ``discretisation`` = {``summation`` ("statistical" or "direct"),
         ``elements`` (bins, statistical), ``seed`` (direct, sampled),
-        ``heights_file`` (direct, measured)}.  Missing keys take the default
-        values (:ref:`formats-model-files`); other keys of the model table are ignored
-        (they are not the contact's).  ``None`` gives the default contact.
+        ``heights_file`` (direct, measured)}, as a validated pol-ind model
+        has them (``PolInd(...).params``; :ref:`formats-model-files`).  A
+        missing key is an error naming it; other keys of the model table are
+        ignored (they are not the contact's).
     base_dir : str or os.PathLike, optional
         Directory a relative ``heights_file`` is read from (the model file's);
         default: the current directory.
@@ -157,18 +147,16 @@ def build_contact(params: Mapping | None = None, base_dir=None, *, surface=None)
 
     Examples
     --------
-    >>> contact = build_contact()
+    >>> from polind.models import PolInd
+    >>> contact = build_contact(PolInd.example_parameters())
     >>> summary = contact.summary()
     >>> len(summary["elements"]), round(summary["separation"] / 0.5e-6, 4)
     (64, 3.0042)
     """
-    params = {} if params is None else params
     if not isinstance(params, Mapping):
         raise InputError(f"The model table of pol-ind must be a table. Got {describe(params)}.")
-    normal_load = positive_number(params.get("normal_load", _DEFAULTS["normal_load"]), "normal_load")
-    static_coefficient = positive_number(
-        params.get("static_coefficient", _DEFAULTS["static_coefficient"]), "static_coefficient"
-    )
+    normal_load = _number(params, "normal_load")
+    static_coefficient = _number(params, "static_coefficient")
     if surface is None:
         surface = build_surface(params, base_dir)
     discretisation = _table(params, "discretisation")
@@ -206,7 +194,7 @@ def measured_surface(surface_keys: Mapping, E_star, G_star, base_dir=None):
                                          nominal_area=surface_keys.get("nominal_area"))
 
 
-def build_surface(params: Mapping | None = None, base_dir=None):
+def build_surface(params: Mapping, base_dir=None):
     """The surface of a pol-ind model table (statistical or direct), before any load.
 
     The part of :func:`build_contact` that depends only on the ``surface``,
@@ -214,7 +202,6 @@ def build_surface(params: Mapping | None = None, base_dir=None):
     sampled or measured summits, sorted): what a fit may reuse while only
     friction keys move.
     """
-    params = {} if params is None else params
     if not isinstance(params, Mapping):
         raise InputError(f"The model table of pol-ind must be a table. Got {describe(params)}.")
     surface_keys = _table(params, "surface")
