@@ -117,3 +117,16 @@ def test_every_public_name_has_an_api_page(site):
     out, _, _ = site
     for name in polind.__all__:
         assert (out / "api" / "generated" / f"polind.{name}.html").is_file(), name
+
+
+def test_the_readme_model_table_is_the_registry_s():
+    """The README's table of models is what the registered models say of themselves
+    (``title``-free form and purpose): regenerate it from the lines this test prints."""
+    from polind.models import MODEL_TYPES
+
+    expected = ["| type | model | use it for |", "|---|---|---|"] + [
+        f"| `{name}` | {cls.form} | {cls.purpose} |" for name, cls in MODEL_TYPES.items()]
+    readme = (ROOT / "README.md").read_text().splitlines()
+    start = readme.index(expected[0])
+    got = readme[start:start + len(expected) + 1]
+    assert got[:-1] == expected and not got[-1].startswith("|"), "\n".join(expected)

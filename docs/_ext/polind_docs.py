@@ -356,6 +356,20 @@ class ModelTypes(SphinxDirective):
         return _parse(self, list_table(["``type``", "model", "keys", "equations"], rows))
 
 
+class ModelAdvice(SphinxDirective):
+    """A definition list: each registered type with when to use it (``cls.advice``)."""
+
+    def run(self):
+        from polind.models import MODEL_TYPES
+
+        lines = []
+        for model_type in _ordered_types():
+            cls = MODEL_TYPES[model_type]
+            text = cls.advice or (cls.purpose[:1].upper() + cls.purpose[1:] + ".")
+            lines += [f"``{model_type}``", f"    {text}"]
+        return _parse(self, lines + [""])
+
+
 class DefaultModel(SphinxDirective):
     """The default Pol-Ind model file, as TOML (from ``PolInd.example_parameters()``)."""
 
@@ -593,6 +607,7 @@ def setup(app):
     app.add_directive("polind-columns", Columns)
     app.add_directive("polind-default-bounds", DefaultBounds)
     app.add_directive("polind-model-types", ModelTypes)
+    app.add_directive("polind-model-advice", ModelAdvice)
     app.add_directive("polind-default-model", DefaultModel)
     app.connect("build-finished", copy_mathjax)
     return {"version": "1", "parallel_read_safe": True, "parallel_write_safe": True}

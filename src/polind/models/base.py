@@ -99,6 +99,8 @@ class FrictionModel:
     title: ClassVar[str] = ""
     #: What the model is for, one sentence (the README's and the guide's model tables).
     purpose: ClassVar[str] = ""
+    #: When to use it, a paragraph (reST; the guide's "Which one to use").
+    advice: ClassVar[str] = ""
     #: The label of the user guide's section with its equations (e.g. ``"guide-gms"``), or "".
     guide: ClassVar[str] = ""
     #: Whether the model is a set of elements whose count ``example()`` can choose.

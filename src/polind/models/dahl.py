@@ -33,6 +33,9 @@ class Dahl(FrictionModel):
     form = "rate-independent first-order hysteresis"
     purpose = "presliding stiffness with a smooth approach to Coulomb friction"
     guide = "guide-dahl"
+    #: When to use it (the guide's 'Which one to use').
+    advice = ('A smooth, rate-independent approach to Coulomb friction after each reversal: the '
+              'first presliding model, one state, two parameters.')
 
     @classmethod
     def example_parameters(cls, elements=None):

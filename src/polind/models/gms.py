@@ -40,6 +40,10 @@ class GMS(FrictionModel):
     form = "Maxwell-slip elements with a rate-state slip law"
     purpose = "presliding memory *and* sliding dynamics (Stribeck, lag) in one model"
     guide = "guide-gms"
+    #: When to use it (the guide's 'Which one to use').
+    advice = ('Maxwell-slip elements whose slip obeys a rate-state law: presliding memory *and* '
+              'the sliding dynamics (Stribeck dip, frictional lag) in one model.  A good '
+              'default for identification from measured data.')
     has_elements = True
 
     @classmethod

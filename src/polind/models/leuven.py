@@ -55,6 +55,9 @@ class Leuven(FrictionModel):
     form = "modified Leuven model, Maxwell-slip hysteresis force"
     purpose = "a LuGre-like model with non-local memory"
     guide = "guide-leuven"
+    #: When to use it (the guide's 'Which one to use').
+    advice = ('A LuGre-like state equation whose hysteresis force is a Maxwell-slip structure, '
+              'giving it non-local memory.')
     has_elements = True
 
     @classmethod

@@ -48,6 +48,10 @@ class LuGre(FrictionModel):
     purpose = ("the standard dynamic model for servo compensation; stick-slip and frictional lag "
                "(drifts under small oscillating forces, as it must)")
     guide = "guide-lugre"
+    #: When to use it (the guide's 'Which one to use').
+    advice = ('The standard dynamic model for servo compensation: one bristle state, a Stribeck '
+              'curve, stick-slip and frictional lag.  It drifts under small oscillating forces '
+              '(a property of the model, kept in polind) and has no non-local memory.')
 
     @classmethod
     def example_parameters(cls, elements=None):

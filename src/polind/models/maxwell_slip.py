@@ -71,6 +71,9 @@ class MaxwellSlip(FrictionModel):
     form = "elastic–perfectly-plastic elements in parallel"
     purpose = "presliding hysteresis with exact non-local memory"
     guide = "guide-maxwell-slip"
+    #: When to use it (the guide's 'Which one to use').
+    advice = ('Presliding hysteresis with exact non-local memory from elastic–perfectly-plastic '
+              'elements in parallel; rate independent, so no Stribeck effect and no lag.')
     has_elements = True
 
     @classmethod

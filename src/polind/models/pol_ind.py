@@ -209,6 +209,12 @@ class PolInd(FrictionModel):
     purpose = ("friction from surface roughness and materials: parameters a tribologist can "
                "measure")
     guide = "guide-pol-ind"
+    #: When to use it (the guide's 'Which one to use').
+    advice = ('GMS elements derived from the asperity mechanics of a rough surface: the element '
+              'stiffnesses and capacities follow from a summit-height distribution (or a '
+              'measured height map), summit radius and the elastic constants of the two bodies, '
+              'and change with the normal load.  Its parameters are the ones a tribologist '
+              'measures.')
     has_elements = True
     has_contact = True
     takes_normal_load = True

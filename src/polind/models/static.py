@@ -58,6 +58,9 @@ class Coulomb(FrictionModel):
     form = "`F = Fc sgn(v)`"
     purpose = "the simplest compensation term; no presliding, no memory"
     guide = "guide-static-models"
+    #: When to use it (the guide's 'Which one to use').
+    advice = ('The simplest compensation term: a constant force against the motion.  No '
+              'presliding, no memory; the force jumps at zero velocity.')
 
     @classmethod
     def example_parameters(cls, elements=None):
@@ -109,6 +112,9 @@ class Stribeck(FrictionModel):
     form = "`F = g(v) sgn(v) + sigma2 v`"
     purpose = "steady-state friction maps (Stribeck dip) in velocity control"
     guide = "guide-static-models"
+    #: When to use it (the guide's 'Which one to use').
+    advice = ('Steady-state friction maps in velocity control: the Stribeck dip and a viscous '
+              'term, no state.  Good for sliding, wrong near reversals.')
 
     @classmethod
     def example_parameters(cls, elements=None):
