@@ -263,6 +263,93 @@ def test_topography_never_imports_contact():
     assert not bad, "topography must not import polind.contact:\n" + "\n".join(bad)
 
 
+def private_imports(source: str, module: str, is_package: bool = False) -> list[str]:
+    """``line: name from module`` for each private name (``_x``) imported from another module.
+
+    A helper one module lends another is public where it lives (the package's
+    boundaries are its files' boundaries); only dunders are exempt.
+    """
+    package = module if is_package else module.rpartition(".")[0]
+    found = []
+    for node in ast.walk(ast.parse(source)):
+        if not isinstance(node, ast.ImportFrom):
+            continue
+        if node.level:
+            parts = package.split(".")
+            base = ".".join(parts[: len(parts) - (node.level - 1)])
+            base = f"{base}.{node.module}" if node.module else base
+        else:
+            base = node.module or ""
+        if not (base == PACKAGE or base.startswith(PACKAGE + ".")) or base == module:
+            continue
+        for alias in node.names:
+            if alias.name.startswith("_") and not alias.name.startswith("__"):
+                found.append(f"{node.lineno}: {alias.name} from {base}")
+    return found
+
+
+def test_no_private_name_is_imported_across_modules():
+    bad = [f"{path.relative_to(ROOT)}:{entry}"
+           for name, (path, is_package) in package_modules().items()
+           for entry in private_imports(path.read_text(encoding="utf-8"), name, is_package)]
+    assert not bad, "private names imported from another module:\n" + "\n".join(bad)
+
+
+def component_graph() -> dict[str, set[str]]:
+    """``{component: components it imports}`` between polind's top-level modules and packages."""
+    graph: dict[str, set[str]] = {}
+    for path, _, target in package_imports(PACKAGE):
+        importer = component(module_name(ROOT / path)[0])
+        imported = component(target)
+        if importer not in (None, "__main__") and imported not in (None, importer):
+            graph.setdefault(importer, set()).add(imported)
+    return graph
+
+
+def cycles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """Every elementary cycle's nodes found by a depth-first search (each cycle once)."""
+    found, seen = [], set()
+
+    def visit(node, trail):
+        for nxt in sorted(graph.get(node, ())):
+            if nxt in trail:
+                cycle = trail[trail.index(nxt):]
+                key = frozenset(cycle)
+                if key not in seen:
+                    seen.add(key)
+                    found.append(cycle + [nxt])
+            elif len(trail) < len(graph) + 1:
+                visit(nxt, trail + [nxt])
+
+    for start in sorted(graph):
+        visit(start, [start])
+    return found
+
+
+def test_no_import_cycle_between_packages():
+    found = cycles(component_graph())
+    assert not found, "import cycles between polind's packages:\n" + "\n".join(
+        " -> ".join(cycle) for cycle in found)
+
+
+def test_no_module_over_about_600_lines():
+    """One idea per module: a module that grows past ~600 lines holds more than one."""
+    long = [f"{path.relative_to(ROOT)}: {count} lines"
+            for path, _ in package_modules().values()
+            if (count := len(path.read_text(encoding="utf-8").splitlines())) > 650]
+    assert not long, "modules of more than one idea:\n" + "\n".join(long)
+
+
+def test_no_module_shares_its_name_with_a_function_of_the_public_api():
+    """``polind.sweep`` is a function, so no module ``polind.sweep`` (and so on)."""
+    import polind
+
+    clash = sorted(name for name in polind.__all__
+                   if callable(getattr(polind, name)) and not isinstance(getattr(polind, name), type)
+                   and f"{PACKAGE}.{name}" in package_modules())
+    assert not clash, f"modules named like a public function: {clash}"
+
+
 # ---------------------------------------------------------------------------
 # The checker itself: it must report what it is meant to report
 # ---------------------------------------------------------------------------
@@ -322,3 +409,14 @@ def test_checker_refuses_an_unplaced_module():
         check_source("", "polind.newthing.core")
     with pytest.raises(UnplacedModule, match="polind.elsewhere"):
         check_source("from polind.elsewhere import x\n", "polind.cli")
+
+
+def test_checker_reports_a_private_import_and_a_cycle():
+    source = "from polind.io import _atomic_open\nfrom .elements import _table, __all__\n"
+    assert private_imports(source, "polind.contact.surface") == [
+        "1: _atomic_open from polind.io", "2: _table from polind.contact.elements"]
+    assert private_imports("from ..io import _x\n", "polind.contact", is_package=True) == [
+        "1: _x from polind.io"]
+    assert private_imports("from polind.contact.surface import _y\n", "polind.contact.surface") == []
+    assert cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [["a", "b", "c", "a"]]
+    assert cycles({"a": {"b"}, "b": set()}) == []
