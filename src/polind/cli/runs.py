@@ -1,0 +1,138 @@
+"""Runs of a model: ``polind simulate``, ``polind dynamics`` and ``polind sweep``."""
+
+from __future__ import annotations
+
+import os
+
+import click
+
+from polind.cli.common import (advancing, blame, check_output_path, cli, file_path,
+                               load_model, model_argument, output_option, progress,
+                               read_samples, refuse_overwriting_inputs, write_samples)
+from polind.errors import InputError
+
+
+@cli.command()
+@model_argument
+@click.option("--input", "-i", "motion_path", required=True, type=file_path(),
+              metavar="MOTION.csv",
+              help="Prescribed motion: header with t and one of x [m], v [m/s]; "
+                   "optionally normal_load [N] (pol-ind).")
+@output_option
+def simulate(model_path, motion_path, output_path):
+    """Friction force along a prescribed motion.
+
+    Writes OUT.csv with the header t,x,v,F (SI units, full float precision);
+    MOTION and OUT may be Parquet files (.parquet), OUT may be - (stdout).
+    """
+    import polind
+    from polind import io
+    from polind.simulate import BYTES_PER_SAMPLE
+
+    refuse_overwriting_inputs([model_path, motion_path], {"--output": output_path})
+    check_output_path(output_path)
+    model = load_model(model_path)
+    io.check_table_memory(motion_path, BYTES_PER_SAMPLE, "simulating")
+    motion = read_samples(motion_path)
+    with blame(motion_path), progress(total=len(motion["t"]), description="simulate",
+                                      unit=" samples") as bar:
+        result = polind.simulate(model, motion["t"], x=motion.get("x"), v=motion.get("v"),
+                                 normal_load=motion.get("normal_load"),
+                                 progress=advancing(bar))
+    del motion
+    write_samples(output_path, {"t": result.t, "x": result.x, "v": result.v,
+                                "F": result.force})
+    click.echo(f"wrote {output_path}: {len(result.t)} samples", err=os.fspath(output_path) == "-")
+
+
+@cli.command()
+@model_argument
+@click.option("--system", "-s", "system_path", required=True, type=file_path(),
+              metavar="SYSTEM.toml",
+              help="The [system] file (the user guide, 'One-degree-of-freedom systems'): mass, "
+                   "duration, time_step, spring_drive and/or force.")
+@output_option
+def dynamics(model_path, system_path, output_path):
+    """A one-degree-of-freedom system: a mass driven by a spring and/or a force.
+
+    Writes OUT.csv with the header t,x,v,F,F_applied (SI units); a .parquet
+    OUT is written as Parquet, - to standard output.
+    """
+    import polind
+    from polind import io
+
+    refuse_overwriting_inputs([model_path, system_path], {"--output": output_path})
+    check_output_path(output_path)
+    model = load_model(model_path)
+    with blame(system_path):
+        system = polind.load_system(system_path)
+    steps = len(system.times) - 1
+    with progress(total=steps, description="dynamics", unit=" steps") as bar:
+        def advance(done, total):
+            bar.update(done - bar.n)
+
+        result = polind.simulate_system(model, system, progress=advance)
+    write_samples(output_path, {"t": result.t, "x": result.x, "v": result.v,
+                                "F": result.force, "F_applied": result.applied})
+    click.echo(f"wrote {output_path}: {len(result.t)} samples", err=os.fspath(output_path) == "-")
+
+
+@cli.command()
+@click.argument("sweep_path", metavar="SWEEP.toml", type=file_path())
+@click.option("--output", "-o", "output_path", required=True, type=file_path(),
+              metavar="RESULTS", help="The results table, .parquet or .csv. Rows are added as "
+                                      "runs finish; the same command again computes only the "
+                                      "runs that are missing.")
+@click.option("--workers", "-w", default=None, type=click.IntRange(min=1), metavar="N",
+              help="Local worker threads (default: the number of cores).")
+@click.option("--scheduler", default=None, metavar="ADDRESS",
+              help="Run on an existing Dask distributed cluster (tcp://HOST:PORT) instead of "
+                   "local threads; its workers need polind installed.")
+@click.option("--yes", "-y", is_flag=True,
+              help="Run a sweep of more than 10,000 runs (refused without it).")
+@click.option("--plot", "plot_path", default=None, type=file_path(), metavar="PNG",
+              help="Also draw each metric against the swept parameters: a line over one, a "
+                   "map over the first two.")
+def sweep(sweep_path, output_path, workers, scheduler, yes, plot_path):
+    """Many runs of one model over a grid or a sample of its parameters.
+
+    SWEEP.toml names the model file, a [system] file (or a motion file), the
+    metrics, the design (grid, latin-hypercube or random) and
+    [sweep.parameters]: dotted keys into [model] and [system], each with
+    values or a range (README, "Sweeps").  RESULTS has one row per run: run,
+    the parameter values, the metrics, status ("ok" or the run's error) and
+    seconds.  A failed run is a row and the sweep goes on; Ctrl-C stops it
+    with every finished row kept.
+    """
+    from polind.sweeps import MAX_RUNS, SweepInterrupted, load_sweep, plot_results
+    from polind.sweeps import sweep as run_sweep
+
+    if workers is not None and scheduler is not None:
+        raise InputError("--workers and --scheduler: give one (local threads or a Dask "
+                         "cluster), not both.")
+    with blame(sweep_path):
+        plan = load_sweep(sweep_path)
+    refuse_overwriting_inputs(plan.inputs, {"--output": output_path, "--plot": plot_path})
+    with progress(description="sweep", unit=" runs") as bar:
+        def advance(done, total, failed):
+            if bar.total != total:
+                bar.reset(total=total)
+            bar.set_postfix_str(f"{failed} failed", refresh=False)
+            bar.update(done - bar.n)
+
+        try:
+            summary = run_sweep(plan, output_path, workers=workers, scheduler=scheduler,
+                                max_runs=None if yes else MAX_RUNS, progress=advance)
+        except SweepInterrupted as stopped:
+            bar.close()
+            click.echo(f"{output_path}: stopped with {stopped.done} of {stopped.runs} runs "
+                       f"written; run the same command again to compute the rest", err=True)
+            raise
+    if plot_path is not None:
+        plot_results(summary.table, plan, plot_path)
+    lost = f", {summary.lost} lost by the cluster (run again)" if summary.lost else ""
+    click.echo(f"{output_path}: {summary.runs} runs: {summary.computed} computed in "
+               f"{summary.seconds:.1f} s ({summary.failed} failed){lost}, "
+               f"{summary.existing} already there")
+    if plot_path is not None:
+        click.echo(f"wrote {plot_path}")
