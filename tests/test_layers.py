@@ -32,7 +32,7 @@ LAYERS = (
     ("cli",),
     ("demo", "report", "bench"),
     ("phenomena", "sweep"),
-    ("identification", "comparison"),
+    ("identification",),
     ("control", "stepper", "dynamics", "simulate"),
     ("models",),
     ("io",),

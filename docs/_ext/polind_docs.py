@@ -520,7 +520,7 @@ MODULES = (
                                       "polind.validation")),
     ("Models and their parameters", ("polind.models", "polind.models.params",
                                      "polind.models.pol_ind")),
-    ("Identification and comparison", ("polind.identification", "polind.comparison")),
+    ("Identification and comparison", ("polind.identification",)),
     ("The demo", ("polind.phenomena", "polind.demo", "polind.report")),
     ("Contact mechanics, module by module", ("polind.contact.materials",
                                              "polind.contact.asperity",
@@ -597,24 +597,54 @@ def _imported_public(module) -> list[str]:
 
     ``automodule`` with ``:ignore-module-all:`` documents what the module defines
     (functions, classes, constants with a ``#:`` comment); a name it re-exports is
-    documented here too, under the module's name, so a reference to it resolves.
+    documented here too, under the module's name, so a reference to it resolves.  A
+    package (``polind.identification``) is documented as one module: a name one of its
+    own modules defines is documented here whether or not ``polind`` exports it too,
+    and a constant with the ``#:`` comment it has where it is defined.
     """
     import inspect
 
     import polind
 
+    package = module.__name__ + "." if hasattr(module, "__path__") else None
     lines = []
     for name in getattr(module, "__all__", ()):
         value = getattr(module, name, None)
-        if value is None or getattr(value, "__module__", module.__name__) == module.__name__:
+        if value is None:
             continue
-        if name in polind.__all__ and getattr(polind, name) is value:
+        if not (inspect.isclass(value) or callable(value)):
+            comment = _package_constant_comment(module, name, value) if package else None
+            if comment:
+                lines += [f".. autodata:: {module.__name__}.{name}", ""]
+                lines += [f"   {line}" if line else "" for line in comment] + [""]
+            continue
+        home = getattr(value, "__module__", module.__name__)
+        if home == module.__name__:
+            continue
+        own = package is not None and home.startswith(package)
+        if not own and name in polind.__all__ and getattr(polind, name) is value:
             continue          # documented as polind.<name>
         if inspect.isclass(value):
             lines += [f".. autoclass:: {module.__name__}.{name}", "   :members:", ""]
-        elif callable(value):
+        else:
             lines += [f".. autofunction:: {module.__name__}.{name}", ""]
     return lines
+
+
+def _package_constant_comment(package, name, value) -> list[str] | None:
+    """The ``#:`` comment of a constant of ``package`` where one of its modules defines it."""
+    import pkgutil
+
+    from sphinx.pycode import ModuleAnalyzer
+
+    for info in pkgutil.iter_modules(package.__path__):
+        module = importlib.import_module(f"{package.__name__}.{info.name}")
+        if getattr(module, name, None) is not value:
+            continue
+        comment = ModuleAnalyzer.for_module(module.__name__).find_attr_docs().get(("", name))
+        if comment:
+            return list(comment)
+    return None
 
 
 def _write_if_changed(path: Path, lines) -> None:
