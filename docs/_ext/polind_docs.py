@@ -502,7 +502,7 @@ API_GROUPS = (
     ("One-degree-of-freedom systems", ("System", "SystemResult", "load_system",
                                        "simulate_system")),
     ("Identification", ("identify", "FitResult", "identify_maxwell_slip", "identify_gms",
-                        "identify_stribeck", "compare")),
+                        "identify_stribeck", "compare", "Comparison")),
     ("Sweeps", ("sweep",)),
     ("Errors", ("InputError",)),
 )
