@@ -538,6 +538,10 @@ MODULES = (
                           "polind.kernels.special", "polind.kernels.fastexp")),
 )
 
+# Packages of MODULES documented as one module (the names their own modules define are
+# theirs, as when they were one file): see _imported_public.
+WHOLE_PACKAGES = ("polind.identification",)
+
 
 def _autosummary(names, module):
     lines = [f".. currentmodule:: {module}", "", ".. autosummary::", "   :toctree: generated/",
@@ -598,15 +602,15 @@ def _imported_public(module) -> list[str]:
     ``automodule`` with ``:ignore-module-all:`` documents what the module defines
     (functions, classes, constants with a ``#:`` comment); a name it re-exports is
     documented here too, under the module's name, so a reference to it resolves.  A
-    package (``polind.identification``) is documented as one module: a name one of its
-    own modules defines is documented here whether or not ``polind`` exports it too,
-    and a constant with the ``#:`` comment it has where it is defined.
+    package of ``WHOLE_PACKAGES`` is documented as one module: a name one of its own
+    modules defines is documented here whether or not ``polind`` exports it too, and a
+    constant with the ``#:`` comment it has where it is defined.
     """
     import inspect
 
     import polind
 
-    package = module.__name__ + "." if hasattr(module, "__path__") else None
+    package = module.__name__ + "." if module.__name__ in WHOLE_PACKAGES else None
     lines = []
     for name in getattr(module, "__all__", ()):
         value = getattr(module, name, None)
