@@ -92,7 +92,10 @@ One idea each; everything public is imported here:
 * ``results`` -- :class:`FitResult`, its standard errors and warnings;
 * ``memory`` -- the memory a fit holds per sample;
 * ``structure`` -- the structured fits :func:`identify_maxwell_slip`,
-  :func:`identify_gms` and :func:`identify_stribeck`;
+  :func:`identify_gms` and :func:`identify_stribeck`, which check the data and call
+  the models' own constructors (:meth:`polind.models.MaxwellSlip.from_presliding`,
+  :meth:`polind.models.GMS.from_presliding`,
+  :meth:`polind.models.Stribeck.from_steady_points`);
 * ``comparison`` -- :func:`compare` and :class:`Comparison`;
 * ``plot`` -- :func:`plot_fit`.
 """
