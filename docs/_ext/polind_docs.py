@@ -602,9 +602,11 @@ def _imported_public(module) -> list[str]:
     ``automodule`` with ``:ignore-module-all:`` documents what the module defines
     (functions, classes, constants with a ``#:`` comment); a name it re-exports is
     documented here too, under the module's name, so a reference to it resolves.  A
-    package of ``WHOLE_PACKAGES`` is documented as one module: a name one of its own
-    modules defines is documented here whether or not ``polind`` exports it too, and a
-    constant with the ``#:`` comment it has where it is defined.
+    package of ``WHOLE_PACKAGES`` is documented as one module: a function one of its own
+    modules defines is documented here whether or not ``polind`` exports it too (a class
+    that ``polind`` exports is not: both pages would register its defining module's name
+    as its canonical one), and a constant with the ``#:`` comment it has where it is
+    defined.
     """
     import inspect
 
@@ -625,7 +627,7 @@ def _imported_public(module) -> list[str]:
         home = getattr(value, "__module__", module.__name__)
         if home == module.__name__:
             continue
-        own = package is not None and home.startswith(package)
+        own = package is not None and home.startswith(package) and not inspect.isclass(value)
         if not own and name in polind.__all__ and getattr(polind, name) is value:
             continue          # documented as polind.<name>
         if inspect.isclass(value):

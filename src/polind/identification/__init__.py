@@ -89,14 +89,14 @@ One idea each; everything public is imported here:
 * ``parameters`` -- free keys, bounds (default ones from the data) and the
   optimiser's variables;
 * ``solver`` -- :func:`identify`, the least-squares solve and its threads;
-* ``results`` -- :class:`FitResult`, its standard errors and warnings;
+* ``results`` -- :class:`polind.FitResult`, its standard errors and warnings;
 * ``memory`` -- the memory a fit holds per sample;
 * ``structure`` -- the structured fits :func:`identify_maxwell_slip`,
   :func:`identify_gms` and :func:`identify_stribeck`, which check the data and call
   the models' own constructors (:meth:`polind.models.MaxwellSlip.from_presliding`,
   :meth:`polind.models.GMS.from_presliding`,
   :meth:`polind.models.Stribeck.from_steady_points`);
-* ``comparison`` -- :func:`compare` and :class:`Comparison`;
+* ``comparison`` -- :func:`compare` and :class:`polind.Comparison`;
 * ``plot`` -- :func:`plot_fit`.
 """
 
