@@ -19,7 +19,7 @@ import pytest
 import tomli_w
 
 import polind
-from polind.comparison import COLUMNS, compare
+from polind.identification import COLUMNS, compare
 
 try:
     from test_cli import no_debug, run  # noqa: F401 - no_debug is an autouse fixture

@@ -24,7 +24,7 @@ import polind
 from conftest import REPRESENTATIVE
 from polind import io
 from polind.errors import InputError
-from polind.identification import _fittable_keys, default_bounds, identify
+from polind.identification import default_bounds, fittable_keys, identify
 from polind.models.pol_ind import default_table
 
 # The shared data folder beside the project (CI), else the development machine's.
@@ -114,7 +114,7 @@ def with_optional_tables(table):
 def test_no_fittable_parameter_of_any_model_is_left_unbounded(model_type):
     table = default_table() if model_type == "pol-ind" else REPRESENTATIVE[model_type]
     start = model(with_optional_tables(table))
-    keys = _fittable_keys(start)
+    keys = fittable_keys(start)
     t, x = strokes(401)
     data = {"t": t, "x": x, "F": np.cos(np.pi * t)}
     assert keys

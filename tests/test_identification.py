@@ -15,10 +15,11 @@ import numpy as np
 import pytest
 
 import polind
-from polind import io
+from polind import io, models
 from polind.errors import InputError
 from polind.identification import (FitResult, identify, identify_gms, identify_maxwell_slip,
                              identify_stribeck, parse_fit, plot_fit)
+from polind.simulate import make_path
 
 
 def model(table: dict):
@@ -174,6 +175,45 @@ def test_nnls_with_a_viscous_column_and_the_gms_starting_model():
     # GMS with Fs = Fc and a large attraction behaves as the Maxwell-slip model.
     gap = polind.simulate(gms, t, x=x).force - data["F"]
     assert np.max(np.abs(gap)) < 0.05
+
+
+def test_the_models_constructors_are_what_the_structured_fits_return():
+    """identify_maxwell_slip and identify_gms return the models' own constructors on the
+    checked data, and identify_stribeck starts from Stribeck's; along positions or
+    velocities, on the default grid or a given one."""
+    true = model({"type": "maxwell-slip", "stiffness": [1e6, 1e5],
+                  "breakaway_force": [1.0, 2.0], "viscous_coefficient": 50.0})
+    t, x = nested_presliding_path()
+    force = noisy(true, t, x, 0.01)
+    for motion in ({"x": x}, {"v": np.gradient(x, t)}):
+        data = {"t": t, **motion, "F": force}
+        path = make_path(t, **motion)
+        for grid in (None, [2e-5, 1e-6, 3e-6]):
+            built = models.MaxwellSlip.from_presliding(path, force, grid)
+            assert isinstance(built, models.MaxwellSlip)
+            assert built == identify_maxwell_slip(data, grid)
+            assert (models.MaxwellSlip.from_presliding(path, force, grid, 8, viscous=True)
+                    == identify_maxwell_slip(data, grid, 8, viscous=True))
+            built = models.GMS.from_presliding(path, force, grid)
+            assert isinstance(built, models.GMS)
+            assert built == identify_gms(data, grid)
+        start = model(GMS)
+        assert (models.GMS.from_presliding(path, force, n=6, model=start)
+                == identify_gms(data, n=6, model=start))
+        with pytest.raises(InputError, match="must be a gms model"):
+            identify_gms(data, model=model(LUGRE))
+
+    v = np.concatenate([np.geomspace(1e-5, 1e-1, 30), -np.geomspace(1e-5, 1e-1, 20)])
+    points = np.sign(v) * (1.0 + 0.5 * np.exp(-(np.abs(v) / 1e-3) ** 2))
+    for shape in ("exponential", "rational"):
+        built = models.Stribeck.from_steady_points(v, points, stribeck_shape=shape)
+        assert isinstance(built, models.Stribeck)
+        assert built == identify_stribeck(v, points, stribeck_shape=shape).start
+    start = built.with_params(static_force=2.0)
+    assert models.Stribeck.from_steady_points(v, points, model=start) is start
+    assert identify_stribeck(v, points, model=start).start == start
+    with pytest.raises(InputError, match="must be a stribeck model"):
+        identify_stribeck(v, points, model=model(LUGRE))
 
 
 def test_standard_error_matches_the_closed_form_of_a_mean():

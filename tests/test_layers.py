@@ -32,7 +32,7 @@ LAYERS = (
     ("cli",),
     ("demo", "report", "bench", "topography_figure"),
     ("phenomena", "sweeps"),
-    ("identification", "comparison"),
+    ("identification",),
     ("control", "stepper", "dynamics", "simulate"),
     ("models",),
     ("io",),

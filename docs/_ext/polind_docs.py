@@ -396,7 +396,7 @@ API_GROUPS = (
     ("One-degree-of-freedom systems", ("System", "SystemResult", "load_system",
                                        "simulate_system")),
     ("Identification", ("identify", "FitResult", "identify_maxwell_slip", "identify_gms",
-                        "identify_stribeck", "compare")),
+                        "identify_stribeck", "compare", "Comparison")),
     ("Sweeps", ("sweep", "SweepSummary")),
     ("Errors", ("InputError",)),
 )
@@ -415,7 +415,7 @@ MODULES = (
                                       "polind.validation")),
     ("Models and their parameters", ("polind.models", "polind.models.params",
                                      "polind.models.pol_ind")),
-    ("Identification and comparison", ("polind.identification", "polind.comparison")),
+    ("Identification and comparison", ("polind.identification",)),
     ("The demo", ("polind.phenomena", "polind.demo", "polind.report")),
     ("Contact mechanics, module by module", ("polind.contact.materials",
                                              "polind.contact.asperity",
@@ -436,6 +436,10 @@ MODULES = (
                           "polind.kernels.separation",
                           "polind.kernels.special", "polind.kernels.fastexp")),
 )
+
+# Packages of MODULES documented as one module (the names their own modules define are
+# theirs, as when they were one file): see _imported_public.
+WHOLE_PACKAGES = ("polind.identification",)
 
 
 def _autosummary(names, module):
@@ -496,24 +500,56 @@ def _imported_public(module) -> list[str]:
 
     ``automodule`` with ``:ignore-module-all:`` documents what the module defines
     (functions, classes, constants with a ``#:`` comment); a name it re-exports is
-    documented here too, under the module's name, so a reference to it resolves.
+    documented here too, under the module's name, so a reference to it resolves.  A
+    package of ``WHOLE_PACKAGES`` is documented as one module: a function one of its own
+    modules defines is documented here whether or not ``polind`` exports it too (a class
+    that ``polind`` exports is not: both pages would register its defining module's name
+    as its canonical one), and a constant with the ``#:`` comment it has where it is
+    defined.
     """
     import inspect
 
     import polind
 
+    package = module.__name__ + "." if module.__name__ in WHOLE_PACKAGES else None
     lines = []
     for name in getattr(module, "__all__", ()):
         value = getattr(module, name, None)
-        if value is None or getattr(value, "__module__", module.__name__) == module.__name__:
+        if value is None:
             continue
-        if name in polind.__all__ and getattr(polind, name) is value:
+        if not (inspect.isclass(value) or callable(value)):
+            comment = _package_constant_comment(module, name, value) if package else None
+            if comment:
+                lines += [f".. autodata:: {module.__name__}.{name}", ""]
+                lines += [f"   {line}" if line else "" for line in comment] + [""]
+            continue
+        home = getattr(value, "__module__", module.__name__)
+        if home == module.__name__:
+            continue
+        own = package is not None and home.startswith(package) and not inspect.isclass(value)
+        if not own and name in polind.__all__ and getattr(polind, name) is value:
             continue          # documented as polind.<name>
         if inspect.isclass(value):
             lines += [f".. autoclass:: {module.__name__}.{name}", "   :members:", ""]
-        elif callable(value):
+        else:
             lines += [f".. autofunction:: {module.__name__}.{name}", ""]
     return lines
+
+
+def _package_constant_comment(package, name, value) -> list[str] | None:
+    """The ``#:`` comment of a constant of ``package`` where one of its modules defines it."""
+    import pkgutil
+
+    from sphinx.pycode import ModuleAnalyzer
+
+    for info in pkgutil.iter_modules(package.__path__):
+        module = importlib.import_module(f"{package.__name__}.{info.name}")
+        if getattr(module, name, None) is not value:
+            continue
+        comment = ModuleAnalyzer.for_module(module.__name__).find_attr_docs().get(("", name))
+        if comment:
+            return list(comment)
+    return None
 
 
 def _write_if_changed(path: Path, lines) -> None:

@@ -23,8 +23,8 @@ __all__ = ["InputError", "MODEL_TYPES", "FrictionModel", "State", "SimulationRes
            "StepFunctions", "StepKernel", "register_model", "unregister_model", "Param", "Table", "Stepper", "Body",
            "load_model", "model_from_dict", "save_model", "simulate", "System", "SystemResult",
            "load_system", "simulate_system", "identify", "FitResult",
-           "identify_maxwell_slip", "identify_gms", "identify_stribeck", "compare", "sweep",
-           "SweepSummary"]
+           "identify_maxwell_slip", "identify_gms", "identify_stribeck", "compare", "Comparison",
+           "sweep", "SweepSummary"]
 __version__ = "0.1.0"
 
 # Every export but InputError is imported on first use (PEP 562), so that
@@ -42,7 +42,7 @@ _LAZY = {"MODEL_TYPES": "polind.models", "FrictionModel": "polind.models",
          "identify_maxwell_slip": "polind.identification",
          "identify_gms": "polind.identification",
          "identify_stribeck": "polind.identification",
-         "compare": "polind.comparison",
+         "compare": "polind.identification", "Comparison": "polind.identification",
          "Stepper": "polind.stepper", "Body": "polind.stepper",
          "System": "polind.dynamics", "SystemResult": "polind.dynamics",
          "load_system": "polind.dynamics", "simulate_system": "polind.dynamics",

@@ -88,7 +88,7 @@ def compare(model_paths, data_path, holdout, output_path, plot_path):
     the fitted part (n ln(RSS/n) + 2k and + k ln n).  --plot draws measured
     and predicted force against time and position, the held-out part shaded.
     """
-    from polind import comparison, identification, io
+    from polind import identification, io
 
     refuse_overwriting_inputs([*model_paths, data_path],
                               {"--output": output_path, "--plot": plot_path})
@@ -110,7 +110,8 @@ def compare(model_paths, data_path, holdout, output_path, plot_path):
             bar.update(done - bar.n)
 
         with blame(data_path):
-            table = comparison.compare(documents, data, holdout=holdout, progress=advance)
+            table = identification.compare(documents, data, holdout=holdout,
+                                           progress=advance)
     # With an output on standard output ('-'), the readable text goes to standard error.
     written = [os.fspath(path) for path in (output_path, plot_path) if path is not None]
     streamed = io.STDOUT in written

@@ -100,6 +100,83 @@ class GMS(FrictionModel):
     def force_scale(self):
         return max(self._params["coulomb_force"], self._params["static_force"])
 
+    # --- starting models from measured data ---------------------------------------------
+
+    @classmethod
+    def from_presliding(cls, path, F, slip_distances=None, n=24, *, model=None) -> "GMS":
+        """A GMS starting model: the element set of a presliding record.
+
+        GMS with ``Fs = Fc`` and a large attraction ``C`` is the Maxwell-slip
+        model with ``W_i = alpha_i Fc`` (:ref:`guide-gms`), so the element set
+        of :meth:`MaxwellSlip.from_presliding <polind.models.MaxwellSlip.from_presliding>`
+        gives ``alpha_i = W_i / sum W`` and ``k_i``; the Coulomb force is
+        ``sum W`` (the sliding force of the record).
+        :func:`polind.identify_gms` checks a data record and calls this.
+
+        Parameters
+        ----------
+        path, F, slip_distances, n
+            As :meth:`MaxwellSlip.from_presliding
+            <polind.models.MaxwellSlip.from_presliding>`: the motion [m, m/s]
+            cut into steps, the force [N], the grid of slip distances [m].
+        model : GMS, optional
+            A GMS model whose ``attraction`` [N/s], Stribeck velocity [m/s],
+            exponent, shape and ``viscous_coefficient`` [N s/m] are kept,
+            and whose ratio ``static_force / coulomb_force`` is applied.
+            Without it: ``Fs = Fc = sum W``, ``stribeck_velocity`` the
+            median speed of the moving samples, and ``C = 10 v max_i k_i``
+            with ``v`` that speed (a slip relaxation length
+            ``alpha_i g / C`` well below every slip distance, i.e. close to
+            Maxwell-slip).
+
+        Returns
+        -------
+        GMS
+
+        Raises
+        ------
+        InputError
+            As :meth:`MaxwellSlip.from_presliding
+            <polind.models.MaxwellSlip.from_presliding>`, or a ``model``
+            that is not a GMS model.
+
+        Examples
+        --------
+        >>> import numpy as np, polind
+        >>> from polind.models import GMS
+        >>> from polind.simulate import make_path
+        >>> slip = polind.model_from_dict({"model": {"type": "maxwell-slip",
+        ...     "stiffness": [1e6, 1e5], "breakaway_force": [1.0, 3.0]}})
+        >>> t = np.linspace(0.0, 1.0, 401)
+        >>> x = 4e-5 * np.sin(2 * np.pi * t) * (1 - t)
+        >>> F = polind.simulate(slip, t, x=x).force
+        >>> start = GMS.from_presliding(make_path(t, x=x), F,
+        ...                             slip_distances=[1e-6, 5e-6, 3e-5])
+        >>> round(start.params["coulomb_force"], 9), np.round(start.params["weight"], 9).tolist()
+        (4.0, [0.25, 0.75])
+        """
+        from polind.errors import InputError, describe
+        from polind.models.maxwell_slip import MaxwellSlip
+
+        slip = MaxwellSlip.from_presliding(path, F, slip_distances, n)
+        stiffness = np.asarray(slip.params["stiffness"])
+        breakaway = np.asarray(slip.params["breakaway_force"])
+        total = float(breakaway.sum())
+        weight = breakaway / total
+        weight[-1] = 1.0 - weight[:-1].sum()
+        elements = {"stiffness": stiffness.tolist(), "weight": weight.tolist()}
+        if model is not None:
+            if not isinstance(model, cls):
+                raise InputError(f"The 'model' of {cls.__name__}.from_presliding must be a "
+                                 f"{cls.type} model. Got {describe(model)} instead.")
+            p = model.params
+            ratio = p["static_force"] / p["coulomb_force"]
+            return model.with_params(**elements, coulomb_force=total, static_force=total * ratio)
+        speed = np.abs(path.sample_velocity)
+        typical = float(np.median(speed[speed > 0.0]))
+        return cls(**elements, attraction=10.0 * typical * float(stiffness.max()),
+                   coulomb_force=total, static_force=total, stribeck_velocity=typical)
+
 
 def gms_scales(params):
     """The characteristic scales of a GMS parameter set (GMS and Pol-Ind at its load)."""

@@ -122,3 +122,125 @@ class MaxwellSlip(FrictionModel):
 
     def force_scale(self):
         return float(np.sum(self._params["breakaway_force"]))
+
+    # --- starting models from measured data ---------------------------------------------
+
+    @classmethod
+    def from_presliding(cls, path, F, slip_distances=None, n=24, *,
+                        viscous=False) -> "MaxwellSlip":
+        """An element set fitted to a presliding record by non-negative least squares.
+
+        With the slip distances ``D_i`` fixed on a grid, the force is linear
+        in the break-away forces: ``F = sum_i W_i z_i(x) / D_i (+ sigma2 v)``,
+        where ``z_i`` is the deflection of element ``i``, clipped to
+        ``[-D_i, D_i]`` along the path (it depends on the path and ``D_i``
+        only).  ``scipy.optimize.nnls`` finds ``W_i >= 0``; elements with
+        ``W_i = 0`` are dropped, and ``k_i = W_i / D_i``.  The elements start
+        unloaded at the first sample.  Noiseless data from a Maxwell-slip
+        model whose slip distances are on the grid are recovered exactly.
+        :func:`polind.identify_maxwell_slip` checks a data record and calls
+        this.
+
+        Parameters
+        ----------
+        path : polind.models.Path
+            The measured motion cut into steps, as
+            ``polind.simulate.make_path(t, x=x)`` (or ``v=v``) gives it:
+            positions ``x`` [m], step displacements [m] and sample
+            velocities [m/s] at the sample times ``t`` [s].
+        F : array_like
+            The measured friction force at each sample [N].
+        slip_distances : array_like, optional
+            The grid of slip distances [m], positive; default ``n`` distances
+            spaced logarithmically from 1e-3 to 1 times the displacement
+            range ``max x - min x`` of the path.
+        n : int
+            Number of grid points when ``slip_distances`` is not given.
+        viscous : bool
+            Also fit ``viscous_coefficient`` (sigma2 >= 0 [N s/m], a column
+            of the sample velocities).
+
+        Returns
+        -------
+        MaxwellSlip
+            Its elements ordered by slip distance.
+
+        Raises
+        ------
+        InputError
+            A bad ``n`` or ``slip_distances``, a force that does not match
+            the path, a fit whose estimated memory passes the limit of
+            :mod:`polind.resources`, or a force that no element set with
+            non-negative break-away forces carries.
+
+        Examples
+        --------
+        >>> import numpy as np, polind
+        >>> from polind.models import MaxwellSlip
+        >>> from polind.simulate import make_path
+        >>> true = MaxwellSlip(stiffness=[1e6, 1e5], breakaway_force=[1.0, 2.0])
+        >>> t = np.linspace(0.0, 1.0, 401)
+        >>> x = 4e-5 * np.sin(2 * np.pi * t) * (1 - t)
+        >>> F = polind.simulate(true, t, x=x).force
+        >>> fit = MaxwellSlip.from_presliding(make_path(t, x=x), F,
+        ...                                   slip_distances=[1e-6, 5e-6, 2e-5])
+        >>> np.round(fit.params["breakaway_force"], 9).tolist()
+        [1.0, 2.0]
+        """
+        from scipy.optimize import nnls
+
+        from polind.errors import InputError, describe
+        from polind.resources import check_memory
+
+        samples = path.t.shape[0]
+        force = np.asarray(F, dtype=np.float64)
+        if force.shape != (samples,):
+            raise InputError(f"The force 'F' must have one value per sample of the path "
+                             f"({samples}). Got {describe(F)} instead.")
+        if slip_distances is None:
+            if not (isinstance(n, (int, np.integer)) and not isinstance(n, bool) and n >= 1):
+                raise InputError(f"The number of slip distances 'n' must be a positive "
+                                 f"integer. Got {describe(n)} instead.")
+            span = float(np.ptp(path.x))
+            if not span > 0.0:
+                raise InputError("The path never moves: a grid of slip distances needs a "
+                                 "displacement range; give 'slip_distances'.")
+            grid = np.geomspace(span * 1e-3, span, int(n))
+        else:
+            grid = np.unique(np.asarray(slip_distances, dtype=np.float64))
+            if grid.size == 0 or not np.all(np.isfinite(grid) & (grid > 0.0)):
+                raise InputError(f"The 'slip_distances' must be at least one positive distance "
+                                 f"[m]. Got {describe(slip_distances)} instead.")
+        columns = grid.size + bool(viscous)
+        check_memory(samples * (_ELEMENT_FIT_BYTES + _ELEMENT_FIT_BYTES_PER_COLUMN * columns),
+                     f"The element fit of {grid.size} slip distances to {samples:.3g} "
+                     f"samples of data")
+        # A[k, i] = z_i(x_k) / D_i: the clipped deflection of a unit element of slip distance D_i.
+        responses = []
+        for distance in grid:
+            unit = cls(stiffness=[1.0], breakaway_force=[float(distance)])
+            responses.append(unit._advance(path, unit.initial_state(), None) / distance)
+        design = np.column_stack(responses)
+        if viscous:
+            design = np.column_stack([design, path.sample_velocity])
+        # Columns of very different size (the viscous one) are scaled to unit norm for NNLS.
+        norms = np.linalg.norm(design, axis=0)
+        norms[norms == 0.0] = 1.0
+        coefficients, _ = nnls(design / norms, force, maxiter=50 * design.shape[1])
+        coefficients = coefficients / norms
+        weights = coefficients[:grid.size]
+        active = weights > 1e-12 * max(weights.max(initial=0.0), 1e-300)
+        if not active.any():
+            raise InputError("The 'F' samples show no presliding force that a Maxwell-slip "
+                             "element set with non-negative break-away forces can carry.")
+        params = {"stiffness": (weights[active] / grid[active]).tolist(),
+                  "breakaway_force": weights[active].tolist()}
+        if viscous:
+            params["viscous_coefficient"] = float(coefficients[-1])
+        return cls(**params)
+
+
+# The element fit per sample (480 bytes at 24 slip distances): the data and a path, and
+# per slip distance the unit element's response, its stacked and scaled copies.
+_ELEMENT_FIT_BYTES = 96.0
+_ELEMENT_FIT_BYTES_PER_COLUMN = 24.0

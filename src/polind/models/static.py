@@ -146,3 +146,80 @@ class Stribeck(FrictionModel):
         return self._params["static_force"]
 
     step_functions = _memoryless_functions
+
+    # --- starting models from measured data ---------------------------------------------
+
+    @classmethod
+    def from_steady_points(cls, v, F, *, stribeck_shape="exponential",
+                           model=None) -> "Stribeck":
+        """A starting Stribeck model estimated from steady-state ``(v, F)`` points.
+
+        ``Fc`` is the median ``|F|`` of the fastest fifth of the points, ``Fs``
+        the largest ``|F|`` of the slowest fifth, ``vs`` the speed where
+        ``|F|`` is nearest to halfway between them, ``delta = 2`` and
+        ``sigma2 = 0`` (a start for :func:`polind.identify_stribeck`, which
+        refines it with :func:`polind.identify`).  The force is taken in the
+        direction of the motion, ``F sgn(v)``; points at rest are left out.
+
+        Parameters
+        ----------
+        v : array_like
+            Sliding velocities [m/s] of the steady-state points (either sign).
+        F : array_like
+            The steady friction force at each [N].
+        stribeck_shape : {"exponential", "rational"}
+            The shape of the estimated curve.
+        model : Stribeck, optional
+            A Stribeck model to start from instead: it is returned as it is
+            (the points are not used).
+
+        Returns
+        -------
+        Stribeck
+
+        Raises
+        ------
+        InputError
+            Points that do not pair up, velocities that are all 0, or a
+            ``model`` that is not a Stribeck model.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from polind.models import Stribeck
+        >>> v = np.geomspace(1e-5, 1e-1, 30)
+        >>> F = 1.0 + 0.5 * np.exp(-(v / 1e-3) ** 2)
+        >>> start = Stribeck.from_steady_points(v, F)
+        >>> [round(start.params[k], 4) for k in ("coulomb_force", "static_force")]
+        [1.0, 1.5]
+        >>> round(start.params["stribeck_velocity"], 7)   # the point nearest to halfway
+        0.0008532
+        """
+        from polind.errors import InputError, describe
+
+        if model is not None:
+            if not isinstance(model, cls):
+                raise InputError(f"The 'model' of {cls.__name__}.from_steady_points must be a "
+                                 f"{cls.type} model. Got {describe(model)} instead.")
+            return model
+        v = np.asarray(v, dtype=np.float64)
+        force = np.asarray(F, dtype=np.float64)
+        if v.ndim != 1 or force.shape != v.shape:
+            raise InputError(f"The steady-state points need one force 'F' per velocity 'v' "
+                             f"(1-D arrays of one length). Got {describe(F)} for "
+                             f"{describe(v)} instead.")
+        speed, level = np.abs(v), force * np.sign(v)
+        moving = speed > 0.0
+        if not moving.any():
+            raise InputError("The 'v' samples are all 0: steady-state points need motion.")
+        speed, level = speed[moving], level[moving]
+        order = np.argsort(speed)
+        fifth = max(1, order.size // 5)
+        coulomb = float(np.median(level[order[-fifth:]]))
+        static = float(np.max(level[order[:fifth]]))
+        coulomb = coulomb if coulomb > 0.0 else float(np.abs(level).mean()) or 1.0
+        static = static if static > 0.0 else coulomb
+        halfway = np.argmin(np.abs(level - 0.5 * (coulomb + static)))
+        velocity = float(speed[halfway]) if static != coulomb else float(np.median(speed))
+        return cls(coulomb_force=coulomb, static_force=static, stribeck_velocity=velocity,
+                   stribeck_exponent=2.0, stribeck_shape=stribeck_shape)

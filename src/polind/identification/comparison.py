@@ -38,8 +38,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from polind.errors import InputError, describe
-from polind.identification import (FitResult, holdout_split, measured_data, identify,
-                                   parse_fit)
+from polind.identification.data import holdout_split, measured_data
+from polind.identification.parameters import parse_fit
+from polind.identification.results import FitResult
+from polind.identification.solver import identify
 from polind.models import FrictionModel
 
 __all__ = ["COLUMNS", "Comparison", "compare"]
@@ -56,10 +58,10 @@ class Comparison:
     Attributes
     ----------
     rows : tuple of dict
-        Per model, in the order given, the :data:`COLUMNS`: ``model`` (its
-        label), ``free_parameters`` (free values the fit varied),
-        ``rms_in_sample`` [N], ``rms_held_out`` [N] (None without a
-        hold-out), ``aic``, ``bic``.
+        Per model, in the order given, the
+        :data:`~polind.identification.COLUMNS`: ``model`` (its label),
+        ``free_parameters`` (free values the fit varied), ``rms_in_sample``
+        [N], ``rms_held_out`` [N] (None without a hold-out), ``aic``, ``bic``.
     results : dict
         Label -> the :class:`~polind.FitResult` of that model.
     holdout : float or None
@@ -98,9 +100,10 @@ class Comparison:
         return "\n".join(lines)
 
     def to_csv(self) -> str:
-        """The rows as CSV text: a header of :data:`COLUMNS`, numbers at full precision.
+        """The rows as CSV text: a header of the columns, numbers at full precision.
 
-        A missing held-out RMS (no hold-out) is an empty field.
+        The header is :data:`~polind.identification.COLUMNS`; a missing
+        held-out RMS (no hold-out) is an empty field.
         """
         text = _text_io.StringIO()
         writer = csv.writer(text, lineterminator="\n")
