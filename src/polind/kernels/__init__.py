@@ -13,6 +13,11 @@ from __future__ import annotations
 
 from numba import njit
 
+from polind.kernels import cache as _cache
+
+# Before any kernel is compiled: cached kernels keyed by every kernel source (kernels.cache).
+_cache.install()
+
 FASTMATH = frozenset({"reassoc", "contract", "nsz"})
 JIT_OPTIONS = {"cache": True, "nogil": True, "fastmath": set(FASTMATH), "error_model": "numpy"}
 
