@@ -151,10 +151,12 @@ def test_files_are_replaced_atomically(demo_run, tmp_path, monkeypatch):
     """Writing again replaces every file and leaves no temporary file behind; a write
     that fails leaves the previous file as it was."""
     from polind import io, report
+    from polind.report import writer
 
     _, summary, _ = demo_run
     fake = {name: PNG_MAGIC + name.encode() for name in FIGURES}
-    monkeypatch.setattr(report, "render_figures", lambda results, subject: fake)
+    # write_report (polind.report.writer) renders through its module's render_figures
+    monkeypatch.setattr(writer, "render_figures", lambda results, subject: fake)
     (tmp_path / "report.html").write_text("old page")
     report.write_report(summary["results"], tmp_path)
     assert sorted(os.listdir(tmp_path)) == sorted(FIGURES + ("metrics.json", "report.html"))
@@ -211,17 +213,17 @@ def test_a_report_is_written_whole_or_not_at_all(demo_run, tmp_path):
 
 def _figures(results, subject="Pol-Ind"):
     """Every figure of the report as a matplotlib Figure, by file name (closed by the caller)."""
-    from polind import report
+    from polind.report import figures as plots
 
     figures = {
-        "stribeck.png": report._figure_stribeck(results["stribeck"]),
-        "presliding_memory.png": report._figure_presliding_memory(results["presliding_memory"]),
-        "frictional_lag.png": report._figure_frictional_lag(results["frictional_lag"]),
-        "non_drifting.png": report._figure_non_drifting(results["non_drifting"]),
-        "stick_slip.png": report._figure_stick_slip(results["stick_slip"]),
-        "breakaway.png": report._figure_breakaway(results["breakaway"], subject),
+        "stribeck.png": plots._figure_stribeck(results["stribeck"]),
+        "presliding_memory.png": plots._figure_presliding_memory(results["presliding_memory"]),
+        "frictional_lag.png": plots._figure_frictional_lag(results["frictional_lag"]),
+        "non_drifting.png": plots._figure_non_drifting(results["non_drifting"]),
+        "stick_slip.png": plots._figure_stick_slip(results["stick_slip"]),
+        "breakaway.png": plots._figure_breakaway(results["breakaway"], subject),
     }
-    figures["stick_slip_reference.png"] = report._figure_stick_slip_reference(
+    figures["stick_slip_reference.png"] = plots._figure_stick_slip_reference(
         results["stick_slip"]["LuGre"], "LuGre")
     assert sorted(figures) == sorted(FIGURES)
     return figures
