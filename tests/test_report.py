@@ -337,6 +337,35 @@ def test_only_the_1995_set_up_is_called_so(demo_run, figures):
     assert called == [("LuGre", "reference")]
 
 
+def test_the_reference_figure_follows_the_1995_set_up_not_the_model_type(demo_run):
+    """stick_slip_reference.png shows the run on the published 1995 set-up (LuGre's in the
+    demo), chosen by the run's set-up: retagging the results' model types does not move
+    the choice; without a run on that set-up it is the first model, whatever the types."""
+    import dataclasses
+
+    from polind.report import SET_UP_1995, is_1995_set_up, reference_label
+
+    _, summary, _ = demo_run
+    results = summary["results"]["stick_slip"]
+    assert reference_label(results) == "LuGre"
+    assert [label for label, result in results.items()
+            if is_1995_set_up(result.metrics["reference"])] == ["LuGre"]
+    # LuGre's result tagged as another model's type, every other one tagged "lugre"
+    retagged = {label: dataclasses.replace(result,
+                                           model_type="pol-ind" if label == "LuGre" else "lugre")
+                for label, result in results.items()}
+    assert reference_label(retagged) == "LuGre"
+    # the same results in another order: still the run on the 1995 set-up
+    reordered = dict(reversed(list(retagged.items())))
+    assert reference_label(reordered) == "LuGre"
+    # no run on the 1995 set-up (LuGre's drive velocity doubled): the first model
+    moved = dict(retagged["LuGre"].metrics["reference"], drive_velocity=2.0 * SET_UP_1995[2])
+    off = dict(retagged, LuGre=dataclasses.replace(
+        retagged["LuGre"], metrics=dict(retagged["LuGre"].metrics, reference=moved)))
+    assert reference_label(off) == "Pol-Ind"
+    assert reference_label({label: off[label] for label in ("GMS", "LuGre")}) == "GMS"
+
+
 def test_a_loop_is_marked_closed_only_when_it_closes(demo_run, figures):
     """The circles "a loop closes" appear exactly where the measured mismatch is below the
     tolerance; LuGre's loops, which do not close, get the open-loop mark instead."""

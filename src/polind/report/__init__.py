@@ -37,7 +37,7 @@ Every public name is importable from :mod:`polind.report` itself.
 """
 
 from polind.report.captions import DESCRIPTIONS, FIGURES, TITLES
-from polind.report.figures import SET_UP_1995, render_figures
+from polind.report.figures import SET_UP_1995, is_1995_set_up, reference_label, render_figures
 from polind.report.page import render_html
 from polind.report.summary import headline, metrics_document, summary_table
 from polind.report.writer import check_targets, file_names, write_report
@@ -51,6 +51,8 @@ __all__ = [
     "check_targets",
     "file_names",
     "render_figures",
+    "is_1995_set_up",
+    "reference_label",
     "metrics_document",
     "headline",
     "summary_table",

@@ -4,8 +4,8 @@
 :data:`~polind.report.captions.FIGURES` from the results of
 :mod:`polind.phenomena`: ``stribeck.png``, ``presliding_memory.png``,
 ``frictional_lag.png``, ``non_drifting.png``, ``stick_slip.png``,
-``stick_slip_reference.png`` (the reference run of one model) and
-``breakaway.png``.  matplotlib is imported inside the plotting
+``stick_slip_reference.png`` (the run chosen by :func:`reference_label`)
+and ``breakaway.png``.  matplotlib is imported inside the plotting
 functions, with the Agg backend, so ``import polind`` stays fast (it does
 not load matplotlib).
 """
@@ -18,7 +18,7 @@ import numpy as np
 
 from polind.report.captions import TITLES
 
-__all__ = ["SET_UP_1995", "render_figures"]
+__all__ = ["SET_UP_1995", "is_1995_set_up", "reference_label", "render_figures"]
 
 _COLOURS = ("#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b")
 _MARKERS = ("o", "s", "^", "D", "v", "P")
@@ -233,6 +233,27 @@ _RUN_TITLES = {"reference": "from rest", "low": "started sliding, low v_d",
 SET_UP_1995 = (1.0, 2.0, 0.1)
 
 
+def is_1995_set_up(metrics) -> bool:
+    """Whether a stick-slip run is the set-up of Canudas de Wit et al. (1995).
+
+    Parameters
+    ----------
+    metrics : dict
+        The metrics of one run of :func:`polind.phenomena.stick_slip`
+        (``result.metrics["reference"]``, ...), with its ``mass``,
+        ``spring_stiffness`` and ``drive_velocity``.
+
+    Returns
+    -------
+    bool
+        The run's body and spring are
+        :data:`~polind.report.figures.SET_UP_1995` (m = 1 kg, k_d = 2 N/m,
+        v_d = 0.1 m/s).
+    """
+    body = (metrics["mass"], metrics["spring_stiffness"], metrics["drive_velocity"])
+    return body == SET_UP_1995
+
+
 def _run_title(label, run, metrics) -> str:
     """The three title lines of a stick-slip panel: the run, its body and spring, the verdict.
 
@@ -240,8 +261,7 @@ def _run_title(label, run, metrics) -> str:
     v_d = 0.1 m/s); the reference runs of other models are it scaled to
     their force level.
     """
-    body = (metrics["mass"], metrics["spring_stiffness"], metrics["drive_velocity"])
-    which = _RUN_TITLES[run] + (" (the 1995 set-up)" if body == SET_UP_1995 else "")
+    which = _RUN_TITLES[run] + (" (the 1995 set-up)" if is_1995_set_up(metrics) else "")
     verdict = ("sticks and slips" if metrics["sticks_and_slips"] else
                "slides steadily" if metrics["slides_steadily"] else "neither")
     period = f", period {metrics['period']:.3g} s" if metrics["sticks_and_slips"] else ""
@@ -340,15 +360,31 @@ def render_figures(results, subject) -> dict:
         "stick_slip.png": _figure_stick_slip(results["stick_slip"]),
         "breakaway.png": _figure_breakaway(results["breakaway"], subject),
     }
-    reference = _reference_label(results["stick_slip"])
+    reference = reference_label(results["stick_slip"])
     figures["stick_slip_reference.png"] = _figure_stick_slip_reference(
         results["stick_slip"][reference], reference)
     return {name: _png(fig) for name, fig in figures.items()}
 
 
-def _reference_label(stick_slip_results):
-    """The model whose stick-slip reference run gets its own figure: LuGre (the 1995 case)."""
+def reference_label(stick_slip_results):
+    """The model whose stick-slip reference run gets its own figure.
+
+    Chosen by the data, never by the model's type: the first model whose
+    reference run is the published 1995 set-up
+    (:func:`~polind.report.figures.is_1995_set_up`; in ``polind demo``
+    LuGre with the 1995 parameters), else the first model.
+
+    Parameters
+    ----------
+    stick_slip_results : dict
+        ``{model label: PhenomenonResult}`` of :func:`polind.phenomena.stick_slip`.
+
+    Returns
+    -------
+    str
+        The label.
+    """
     for label, result in stick_slip_results.items():
-        if result.model_type == "lugre":
+        if is_1995_set_up(result.metrics["reference"]):
             return label
     return next(iter(stick_slip_results))
