@@ -151,10 +151,12 @@ def test_files_are_replaced_atomically(demo_run, tmp_path, monkeypatch):
     """Writing again replaces every file and leaves no temporary file behind; a write
     that fails leaves the previous file as it was."""
     from polind import io, report
+    from polind.report import writer
 
     _, summary, _ = demo_run
     fake = {name: PNG_MAGIC + name.encode() for name in FIGURES}
-    monkeypatch.setattr(report, "render_figures", lambda results, subject: fake)
+    # write_report (polind.report.writer) renders through its module's render_figures
+    monkeypatch.setattr(writer, "render_figures", lambda results, subject: fake)
     (tmp_path / "report.html").write_text("old page")
     report.write_report(summary["results"], tmp_path)
     assert sorted(os.listdir(tmp_path)) == sorted(FIGURES + ("metrics.json", "report.html"))
@@ -211,17 +213,17 @@ def test_a_report_is_written_whole_or_not_at_all(demo_run, tmp_path):
 
 def _figures(results, subject="Pol-Ind"):
     """Every figure of the report as a matplotlib Figure, by file name (closed by the caller)."""
-    from polind import report
+    from polind.report import figures as plots
 
     figures = {
-        "stribeck.png": report._figure_stribeck(results["stribeck"]),
-        "presliding_memory.png": report._figure_presliding_memory(results["presliding_memory"]),
-        "frictional_lag.png": report._figure_frictional_lag(results["frictional_lag"]),
-        "non_drifting.png": report._figure_non_drifting(results["non_drifting"]),
-        "stick_slip.png": report._figure_stick_slip(results["stick_slip"]),
-        "breakaway.png": report._figure_breakaway(results["breakaway"], subject),
+        "stribeck.png": plots._figure_stribeck(results["stribeck"]),
+        "presliding_memory.png": plots._figure_presliding_memory(results["presliding_memory"]),
+        "frictional_lag.png": plots._figure_frictional_lag(results["frictional_lag"]),
+        "non_drifting.png": plots._figure_non_drifting(results["non_drifting"]),
+        "stick_slip.png": plots._figure_stick_slip(results["stick_slip"]),
+        "breakaway.png": plots._figure_breakaway(results["breakaway"], subject),
     }
-    figures["stick_slip_reference.png"] = report._figure_stick_slip_reference(
+    figures["stick_slip_reference.png"] = plots._figure_stick_slip_reference(
         results["stick_slip"]["LuGre"], "LuGre")
     assert sorted(figures) == sorted(FIGURES)
     return figures
@@ -333,6 +335,35 @@ def test_only_the_1995_set_up_is_called_so(demo_run, figures):
             if is_1995:
                 called.append((label, run))
     assert called == [("LuGre", "reference")]
+
+
+def test_the_reference_figure_follows_the_1995_set_up_not_the_model_type(demo_run):
+    """stick_slip_reference.png shows the run on the published 1995 set-up (LuGre's in the
+    demo), chosen by the run's set-up: retagging the results' model types does not move
+    the choice; without a run on that set-up it is the first model, whatever the types."""
+    import dataclasses
+
+    from polind.report import SET_UP_1995, is_1995_set_up, reference_label
+
+    _, summary, _ = demo_run
+    results = summary["results"]["stick_slip"]
+    assert reference_label(results) == "LuGre"
+    assert [label for label, result in results.items()
+            if is_1995_set_up(result.metrics["reference"])] == ["LuGre"]
+    # LuGre's result tagged as another model's type, every other one tagged "lugre"
+    retagged = {label: dataclasses.replace(result,
+                                           model_type="pol-ind" if label == "LuGre" else "lugre")
+                for label, result in results.items()}
+    assert reference_label(retagged) == "LuGre"
+    # the same results in another order: still the run on the 1995 set-up
+    reordered = dict(reversed(list(retagged.items())))
+    assert reference_label(reordered) == "LuGre"
+    # no run on the 1995 set-up (LuGre's drive velocity doubled): the first model
+    moved = dict(retagged["LuGre"].metrics["reference"], drive_velocity=2.0 * SET_UP_1995[2])
+    off = dict(retagged, LuGre=dataclasses.replace(
+        retagged["LuGre"], metrics=dict(retagged["LuGre"].metrics, reference=moved)))
+    assert reference_label(off) == "Pol-Ind"
+    assert reference_label({label: off[label] for label in ("GMS", "LuGre")}) == "GMS"
 
 
 def test_a_loop_is_marked_closed_only_when_it_closes(demo_run, figures):
