@@ -1,0 +1,70 @@
+"""numba's on-disk cache of the kernels cannot go stale (polind.kernels.cache).
+
+A copy of the package is run in fresh processes with its own cache folder:
+after a helper in one kernel file changes, a cached kernel of another file
+that inlines it must give the new result, not the one compiled before.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+SOURCE = Path(__file__).resolve().parents[1] / "src" / "polind"
+
+# The Stribeck model's kernel (kernels/static.py) inlines the curve of kernels/stribeck.py.
+PROBE = ("import numpy as np, polind\n"
+         "from polind.models import Stribeck\n"
+         "t = np.linspace(0.0, 1.0, 11)\n"
+         "print(repr(float(polind.simulate(Stribeck.example(), t, x=1e-3 * t).force[-1])))\n"
+         "from numba.core.dispatcher import Dispatcher\n"
+         "from polind.kernels import static\n"
+         "print(sum(sum(d.stats.cache_hits.values()) for d in vars(static).values()\n"
+         "          if isinstance(d, Dispatcher)))\n")
+
+
+def run(folder: Path, cache: Path):
+    env = dict(os.environ, PYTHONPATH=str(folder), NUMBA_CACHE_DIR=str(cache))
+    done = subprocess.run([sys.executable, "-c", PROBE], env=env, capture_output=True,
+                          text=True, timeout=600)
+    assert done.returncode == 0, done.stderr
+    force, hits = done.stdout.split("\n")[:2]
+    return float(force), hits
+
+
+@pytest.fixture
+def package_copy(tmp_path):
+    target = tmp_path / "src" / "polind"
+    shutil.copytree(SOURCE, target, ignore=shutil.ignore_patterns("__pycache__"))
+    return tmp_path / "src"
+
+
+def test_a_changed_helper_in_another_file_recompiles_its_cached_caller(package_copy, tmp_path):
+    cache = tmp_path / "numba-cache"
+    first, _ = run(package_copy, cache)
+    again, hits = run(package_copy, cache)
+    assert again == first and int(hits) > 0          # the second process loaded the cache
+    curve = package_copy / "polind" / "kernels" / "stribeck.py"
+    text = curve.read_text()
+    changed = text.replace("return coulomb_force + (static_force - coulomb_force) * decay",
+                           "return 1.0001 * (coulomb_force + (static_force - coulomb_force) * decay)")
+    assert changed != text
+    curve.write_text(changed)
+    after, _ = run(package_copy, cache)
+    viscous = 0.4 * 1e-3                             # sigma2 v, outside the curve
+    assert after == pytest.approx(1.0001 * (first - viscous) + viscous, rel=1e-12)
+    assert any(path.name.startswith("polind-") for path in cache.rglob("*") if path.is_dir())
+
+
+def test_the_stamp_covers_every_kernel_source():
+    from polind.kernels import cache
+
+    stamp = cache.sources_stamp(cache.KERNELS_DIR / "static.py")
+    assert stamp == cache.sources_stamp(cache.KERNELS_DIR / "static.py")
+    assert {path.name for path in cache._kernel_files()} >= {"static.py", "stribeck.py",
+                                                              "elements.py", "cache.py"}
