@@ -61,13 +61,7 @@ nitpick_ignore_regex = [
                r"type|None|True|False|Exception|BaseException|ValueError|TypeError|"
                r"KeyboardInterrupt|UserWarning|ImportError|OSError)"),
 ]
-# References in docstrings that cannot be fixed where they are written yet (the files
-# are being edited in parallel; see the closing note of the documentation issue):
-nitpick_ignore = [
-    # src/polind/simulate.py, simulate docstring: the module constant polind.simulate.CHUNK
-    # (the module is shadowed by the function polind.simulate, so it has no page).
-    ("py:data", "CHUNK"),
-]
+nitpick_ignore = []
 numpydoc_show_class_members = False
 numpydoc_class_members_toctree = False
 

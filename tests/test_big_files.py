@@ -25,7 +25,7 @@ from polind.errors import InputError
 from conftest import lib, representative
 from test_io import BAD_MOTIONS
 
-simulate_module = importlib.import_module("polind.simulate")
+simulate_module = importlib.import_module("polind.simulation")
 
 MAXWELL_SLIP = ('[model]\ntype = "maxwell-slip"\nstiffness = [1e5, 5e4, 2e4, 1e4]\n'
                 'breakaway_force = [0.2, 0.3, 0.25, 0.25]\n')

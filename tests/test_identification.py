@@ -19,7 +19,7 @@ from polind import io, models
 from polind.errors import InputError
 from polind.identification import (FitResult, identify, identify_gms, identify_maxwell_slip,
                              identify_stribeck, parse_fit, plot_fit)
-from polind.simulate import make_path
+from polind.simulation import make_path
 
 
 def model(table: dict):

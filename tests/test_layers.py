@@ -33,7 +33,7 @@ LAYERS = (
     ("demo", "report", "bench", "topography_figure"),
     ("phenomena", "sweeps"),
     ("identification",),
-    ("control", "stepper", "dynamics", "simulate"),
+    ("control", "stepper", "dynamics", "simulation"),
     ("models",),
     ("io",),
     ("contact", "topography"),
@@ -374,7 +374,7 @@ def test_checker_reports_a_lazy_import_inside_a_function():
 
 def test_checker_reports_plain_and_relative_and_dynamic_imports():
     source = (
-        "import polind.simulate\n"
+        "import polind.simulation\n"
         "from ..models import base\n"
         "from . import surface\n"
         "import importlib\n"
@@ -382,12 +382,12 @@ def test_checker_reports_plain_and_relative_and_dynamic_imports():
     )
     known = {"polind.models.base", "polind.contact.surface"}
     found = check_source(source, "polind.contact.elements", known=known)
-    assert [imported for _, imported, _ in found] == ["polind.simulate", "polind.models.base", "polind.phenomena"]
+    assert [imported for _, imported, _ in found] == ["polind.simulation", "polind.models.base", "polind.phenomena"]
 
 
 def test_checker_allows_same_layer_and_downward_imports():
     source = (
-        "from polind.simulate import simulate\n"
+        "from polind.simulation import simulate\n"
         "from polind.kernels import dynamics as kernel\n"
         "from polind.errors import InputError\n"
         "from polind.validation import check_number\n"
@@ -397,8 +397,8 @@ def test_checker_allows_same_layer_and_downward_imports():
 
 
 def test_checker_counts_the_facade_as_its_highest_import():
-    facade = "from polind.simulate import simulate\n_LAZY = {'x': 'polind.identification'}\n"
-    layer = facade_layer(facade, {"polind.simulate", "polind.identification"})
+    facade = "from polind.simulation import simulate\n_LAZY = {'x': 'polind.identification'}\n"
+    layer = facade_layer(facade, {"polind.simulation", "polind.identification"})
     assert layer == LAYER_OF["identification"]
     assert check_source("import polind\n", "polind.models.base", facade=layer)
     assert check_source("from polind import __version__\n", "polind.demo", facade=layer) == []

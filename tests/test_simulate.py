@@ -10,8 +10,8 @@ import polind
 from polind.models.pol_ind import default_table
 from conftest import lib, representative
 
-# polind.simulate is the function; the module is reached through importlib.
-simulate_module = importlib.import_module("polind.simulate")
+# polind.simulate is the function, polind.simulation its module.
+simulate_module = importlib.import_module("polind.simulation")
 
 
 @pytest.mark.parametrize("model_type", ["maxwell-slip", "gms", "lugre", "leuven", "pol-ind"])
@@ -72,7 +72,7 @@ class _no_warnings:
 def test_the_path_is_numpys_diff_divide_and_accumulate_to_the_bit(continuing):
     # INTERFACE.md's rules written with NumPy, against the one-pass compiled cut.
     from polind.models import State
-    from polind.simulate import make_path
+    from polind.simulation import make_path
 
     rng = np.random.default_rng(4)
     t = np.cumsum(rng.uniform(1e-4, 2e-3, 500))

@@ -1,4 +1,4 @@
-"""SimulationResult's conveniences (polind.simulate): a short repr, to_frame (pandas) and
+"""SimulationResult's conveniences (polind.simulation): a short repr, to_frame (pandas) and
 to_csv with the columns of ``polind simulate``."""
 
 from __future__ import annotations

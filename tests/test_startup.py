@@ -60,7 +60,7 @@ def test_a_small_simulate_imports_only_what_it_uses(tmp_path):
 
 
 def test_scipy_special_and_optimize_wait_for_their_use(tmp_path):
-    code = ("import sys\nimport polind, polind.cli, polind.simulate\n"
+    code = ("import sys\nimport polind, polind.cli, polind.simulation\n"
             "print(sorted(m for m in sys.modules if m.startswith(('scipy.special', "
             "'scipy.optimize', 'scipy.integrate'))))")
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
@@ -68,22 +68,21 @@ def test_scipy_special_and_optimize_wait_for_their_use(tmp_path):
     assert done.stdout.strip() == "[]"
 
 
-def test_every_export_resolves_and_simulate_stays_the_function():
+def test_every_export_resolves_and_simulate_is_the_function():
     import importlib
 
-    importlib.import_module("polind.simulate")       # binds the submodule on the package
-    assert callable(polind.simulate) and polind.simulate.__name__ == "simulate"
+    module = importlib.import_module("polind.simulation")
+    assert callable(polind.simulate) and polind.simulate is module.simulate
     for name in polind.__all__:
         assert getattr(polind, name) is not None, name
     assert set(polind.__all__) <= set(dir(polind))
-    assert polind.simulate is importlib.import_module("polind.simulate").simulate
     with pytest.raises(AttributeError, match="no attribute 'nothing'"):
         polind.nothing     # noqa: B018
 
 
 def test_simulate_is_the_function_whichever_import_comes_first():
-    code = ("import polind.dynamics, polind.simulate\nimport polind\n"
+    code = ("import polind.dynamics, polind.simulation\nimport polind\n"
             "print(polind.simulate.__module__, type(polind.simulate).__name__)")
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                           timeout=300, check=True)
-    assert done.stdout.split() == ["polind.simulate", "function"]
+    assert done.stdout.split() == ["polind.simulation", "function"]

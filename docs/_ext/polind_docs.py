@@ -413,8 +413,10 @@ SUBPACKAGES = (
 MODULES = (
     ("Files, systems and resources", ("polind.io", "polind.dynamics", "polind.resources",
                                       "polind.validation")),
+    ("Running a model", ("polind.simulation",)),
     ("Models and their parameters", ("polind.models", "polind.models.params",
-                                     "polind.models.pol_ind")),
+                                     "polind.models.registry", "polind.models.state",
+                                     "polind.models.kernel", "polind.models.pol_ind")),
     ("Identification and comparison", ("polind.identification",)),
     ("The demo", ("polind.phenomena", "polind.demo", "polind.report")),
     ("The phenomena, module by module", ("polind.phenomena.common", "polind.phenomena.steady",
@@ -442,7 +444,8 @@ MODULES = (
                           "polind.kernels.series", "polind.kernels.dynamics",
                           "polind.kernels.elements", "polind.kernels.greenwood",
                           "polind.kernels.separation",
-                          "polind.kernels.special", "polind.kernels.fastexp")),
+                          "polind.kernels.special", "polind.kernels.fastexp",
+                          "polind.kernels.cache")),
 )
 
 # Packages of MODULES documented as one module (the names their own modules define are

@@ -14,9 +14,6 @@ A model as a discrete-time python-control system (optional extra
     sys = friction_system(model, dt=1e-3)        # input "x" (or "v"), output "F"
 """
 
-import sys
-import types
-
 from polind.errors import InputError
 
 __all__ = ["InputError", "MODEL_TYPES", "FrictionModel", "State", "SimulationResult",
@@ -37,7 +34,7 @@ _LAZY = {"MODEL_TYPES": "polind.models", "FrictionModel": "polind.models",
          "unregister_model": "polind.models",
          "save_model": "polind.io",
          "Param": "polind.models.params", "Table": "polind.models.params",
-         "SimulationResult": "polind.simulate", "simulate": "polind.simulate",
+         "SimulationResult": "polind.simulation", "simulate": "polind.simulation",
          "identify": "polind.identification", "FitResult": "polind.identification",
          "identify_maxwell_slip": "polind.identification",
          "identify_gms": "polind.identification",
@@ -66,18 +63,3 @@ def __getattr__(name):
 
 def __dir__():
     return sorted(set(globals()) | set(_LAZY))
-
-
-class _Package(types.ModuleType):
-    """``polind``, whose ``simulate`` stays the function when the module ``polind.simulate``
-    is imported: the import system binds a submodule on its package, which would
-    otherwise replace the function ``polind.simulate`` by the module of that name."""
-
-    def __setattr__(self, name, value):
-        if name == "simulate" and isinstance(value, types.ModuleType) \
-                and value.__name__ == f"{__name__}.simulate":
-            value = value.simulate
-        super().__setattr__(name, value)
-
-
-sys.modules[__name__].__class__ = _Package

@@ -16,7 +16,7 @@ the element law runs.
 
 :func:`run_ratios` adds rows that are ratios of two timings taken in the same
 run (the figures the user-loop API is held to): :class:`polind.Stepper`
-against a bare Python-to-numba call, :func:`polind.simulate` end to end
+against a bare Python-to-numba call, :func:`polind.simulation` end to end
 against bare numba loops written here from the user guide's equations, and the
 Pol-Ind model
 under a varying against a constant normal load.
@@ -35,7 +35,7 @@ from polind.errors import InputError
 from polind.kernels import jit
 from polind.models import model_from_dict
 from polind.models.base import STATE_OFFSET, TABLE_OFFSET, page_placed
-from polind.simulate import make_path
+from polind.simulation import make_path
 from polind.models.static import stribeck_curve
 
 ELEMENT_COUNTS = (1, 64, 1024)
@@ -521,7 +521,7 @@ def _simulate_ratio(model, reference, samples, rounds):
     ``reference(t, x)`` runs the bare loop and returns its forces, which are
     compared with ``simulate``'s (from sample 1 on).
     """
-    from polind.simulate import simulate
+    from polind.simulation import simulate
 
     path = bench_path(samples)
     t, x = path.t, path.x
@@ -609,7 +609,7 @@ def varying_load_ratios(samples=100_000, calls=10_000, body_steps=3_000, rounds=
     Returns ``{"simulate" | "Stepper" | "Body": (ratio, detail)}``.
     """
     from polind.models.pol_ind import default_table
-    from polind.simulate import simulate
+    from polind.simulation import simulate
     from polind.stepper import Body, Stepper
 
     model = model_from_dict({"model": default_table()})

@@ -8,7 +8,7 @@ registered model of your own) as a discrete-time
 controllers with python-control's ``interconnect``, ``feedback`` and
 ``input_output_response``.  Each sample runs the model's own compiled step
 (the stepping contract of :mod:`polind.kernels.contract`) with the
-arithmetic of :func:`polind.simulate` and :class:`polind.Stepper`, so a
+arithmetic of :func:`polind.simulation` and :class:`polind.Stepper`, so a
 response equals ``simulate``'s on the same samples.
 
 python-control is an optional dependency: ``pip install polind[control]``.
@@ -175,7 +175,7 @@ def friction_system(model, dt, input="x", *, name=None):
         The motion input: position x [m] (linear path between samples, step
         velocity ``(x[k] - x[k-1]) / dt``) or velocity v [m/s] (each step at
         the mean of its end velocities, position its trapezoidal integral),
-        as in :func:`polind.simulate`.
+        as in :func:`polind.simulation`.
     name : str, optional
         The system's name in python-control (for ``interconnect``).
 

@@ -26,7 +26,7 @@ import numpy as np
 from polind.errors import InputError, describe
 from polind.kernels import dynamics as dynamics_kernel
 from polind.models import FrictionModel, State
-from polind.simulate import as_samples, summary_repr
+from polind.simulation import as_samples, summary_repr
 from polind.validation import check_number
 
 __all__ = ["System", "SystemResult", "load_system", "simulate_system"]
@@ -252,7 +252,7 @@ class SystemResult:
         F_applied(t, x) [N]: the drive spring's force plus the applied force.
     final_state : State
         The friction model's state at the last sample (pass it to
-        :func:`polind.simulate` to continue along a prescribed motion).
+        :func:`polind.simulation` to continue along a prescribed motion).
     """
 
     t: np.ndarray

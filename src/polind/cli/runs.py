@@ -27,7 +27,7 @@ def simulate(model_path, motion_path, output_path):
     """
     import polind
     from polind import io
-    from polind.simulate import BYTES_PER_SAMPLE
+    from polind.simulation import BYTES_PER_SAMPLE
 
     refuse_overwriting_inputs([model_path, motion_path], {"--output": output_path})
     check_output_path(output_path)

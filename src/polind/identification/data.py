@@ -15,7 +15,7 @@ import numpy as np
 
 from polind.errors import InputError
 from polind.models import FrictionModel
-from polind.simulate import as_samples, make_path, simulate
+from polind.simulation import as_samples, make_path, simulate
 from polind.validation import describe
 
 __all__ = ["MeasuredData", "measured_data", "holdout_split"]

@@ -23,7 +23,7 @@ from polind.identification.data import measured_data
 from polind.identification.results import FitResult
 from polind.identification.solver import identify
 from polind.models import GMS, MaxwellSlip, Stribeck
-from polind.simulate import as_samples
+from polind.simulation import as_samples
 
 __all__ = ["identify_maxwell_slip", "identify_gms", "identify_stribeck"]
 

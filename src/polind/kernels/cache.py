@@ -8,14 +8,14 @@ documents that its cache does not see changes in other files.
 
 :class:`KernelCacheLocator` keys every compiled function of a polind source
 file by a hash of *all* of polind's compiled sources (:func:`sources_stamp`:
-every ``.py`` file of :mod:`polind.kernels` and the file itself), and stores
+every ``.py`` file of ``polind.kernels`` and the file itself), and stores
 it under a folder named by that hash, so a change to any kernel source makes
 every cached kernel that might use it compile again, and an old cache is never
 read.  The folder is under ``NUMBA_CACHE_DIR`` when the user sets it (numba's
 own rule), else in the ``__pycache__`` beside the source, else in numba's
 user-wide cache folder.  Functions outside polind are left to numba's own
 locators.  :func:`install` puts the locator first in numba's list; importing
-:mod:`polind.kernels` calls it, before any kernel is compiled.
+``polind.kernels`` calls it, before any kernel is compiled.
 """
 
 from __future__ import annotations

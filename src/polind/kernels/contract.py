@@ -115,7 +115,7 @@ def run_motion(step, force, scalars, table, state, source_t, source_motion, t, m
                loads, constant_load, lo, hi, first, out_force):
     """Copy, check and cut the samples ``lo .. hi - 1`` and run the model over them, in one pass.
 
-    The loop of :func:`polind.simulate`: it reads the sample times
+    The loop of :func:`polind.simulation`: it reads the sample times
     ``source_t`` and the ``source_motion`` (positions, or velocities with
     ``by_velocity``), copies them into ``t`` and ``motion`` (which may be the
     same arrays as the sources), checks the times (finite, increasing) and

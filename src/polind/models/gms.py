@@ -144,7 +144,7 @@ class GMS(FrictionModel):
         --------
         >>> import numpy as np, polind
         >>> from polind.models import GMS
-        >>> from polind.simulate import make_path
+        >>> from polind.simulation import make_path
         >>> slip = polind.model_from_dict({"model": {"type": "maxwell-slip",
         ...     "stiffness": [1e6, 1e5], "breakaway_force": [1.0, 3.0]}})
         >>> t = np.linspace(0.0, 1.0, 401)

@@ -2,7 +2,7 @@
 
 :class:`StepFunctions` is what a model supplies; :class:`StepKernel` is the
 model made ready for a run (:meth:`polind.FrictionModel.step_kernel`), with
-the run loops of :mod:`polind.kernels` it dispatches to.
+the run loops of ``polind.kernels`` it dispatches to.
 """
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ class StepFunctions:
     ``integrate`` (``polind.kernels.dynamics.integrate_system_template``),
     ``body`` (``polind.kernels.dynamics.advance_body_template``) and
     ``motion`` (``polind.kernels.contract.run_motion``, the loop of
-    :func:`polind.simulate`).  numba can keep those in its
+    :func:`polind.simulation`).  numba can keep those in its
     on-disk cache, which it cannot do for a template given functions as
     arguments; without them the generic templates run the model, compiled
     once per process.

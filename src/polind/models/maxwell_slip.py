@@ -145,7 +145,7 @@ class MaxwellSlip(FrictionModel):
         ----------
         path : polind.models.Path
             The measured motion cut into steps, as
-            ``polind.simulate.make_path(t, x=x)`` (or ``v=v``) gives it:
+            ``polind.simulation.make_path(t, x=x)`` (or ``v=v``) gives it:
             positions ``x`` [m], step displacements [m] and sample
             velocities [m/s] at the sample times ``t`` [s].
         F : array_like
@@ -177,7 +177,7 @@ class MaxwellSlip(FrictionModel):
         --------
         >>> import numpy as np, polind
         >>> from polind.models import MaxwellSlip
-        >>> from polind.simulate import make_path
+        >>> from polind.simulation import make_path
         >>> true = MaxwellSlip(stiffness=[1e6, 1e5], breakaway_force=[1.0, 2.0])
         >>> t = np.linspace(0.0, 1.0, 401)
         >>> x = 4e-5 * np.sin(2 * np.pi * t) * (1 - t)

@@ -161,7 +161,7 @@ class PolInd(FrictionModel):
     Parameters
     ----------
     normal_load : float
-        N [N]; a ``normal_load`` array given to :func:`polind.simulate`
+        N [N]; a ``normal_load`` array given to :func:`polind.simulation`
         replaces it sample by sample.
     static_coefficient, kinetic_coefficient : float
         mu_s and mu_k.

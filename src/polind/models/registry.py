@@ -5,7 +5,7 @@ defined elsewhere registers with :func:`register_model`; a package that ships
 models declares them as entry points of the group ``polind.models`` (name:
 the model's ``type``, value: ``"module:Class"``), which are loaded on the
 first use of a type polind does not know (the convention of xarray's
-backends and pytest's plugins; the user guide, :ref:`guide-own-model`).
+backends and pytest's plugins; the user guide, :ref:`guide-own-models`).
 
 :data:`MODEL_TYPES` is a read-only view: only :func:`register_model` and
 :func:`unregister_model` change it.
@@ -32,7 +32,7 @@ def register_model(cls, *, replace=False):
     """Make a :class:`~polind.FrictionModel` subclass usable everywhere under its ``type``.
 
     After ``polind.register_model(MyModel)`` the type can be named in model
-    files (``type = "my-model"``) and runs in :func:`polind.simulate`,
+    files (``type = "my-model"``) and runs in :func:`polind.simulation`,
     :class:`polind.Stepper`, :class:`polind.Body`,
     :func:`polind.simulate_system`, :func:`polind.identify` and sweeps,
     with no change to polind's own files.  The class must subclass

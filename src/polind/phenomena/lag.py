@@ -22,7 +22,7 @@ from polind.phenomena.common import (
     velocity_scale,
 )
 from polind.resources import check_memory
-from polind.simulate import BYTES_PER_SAMPLE, simulate
+from polind.simulation import BYTES_PER_SAMPLE, simulate
 
 __all__ = ["frictional_lag"]
 

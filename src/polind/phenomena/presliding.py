@@ -19,7 +19,7 @@ from polind.phenomena.common import (
     friction_levels,
     velocity_scale,
 )
-from polind.simulate import simulate
+from polind.simulation import simulate
 
 __all__ = ["MEMORY_PATH", "MEMORY_CLOSURES", "MEMORY_BRANCHES", "MEMORY_TOLERANCE",
            "presliding_memory"]

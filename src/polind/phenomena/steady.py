@@ -18,7 +18,7 @@ from polind.phenomena.common import (
     friction_levels,
     velocity_scale,
 )
-from polind.simulate import simulate
+from polind.simulation import simulate
 
 __all__ = ["stribeck_effect"]
 

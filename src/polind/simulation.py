@@ -404,7 +404,7 @@ def simulate(model: FrictionModel, t, x=None, v=None, *, normal_load=None,
         and ``x[0]`` its position (or ``v[0]`` its velocity).
     progress : callable, optional
         ``progress(done, total)`` [samples], called as the run advances
-        (polind runs long motions in fixed chunks of :data:`CHUNK` samples
+        (polind runs long motions in fixed chunks of :data:`~polind.simulation.CHUNK` samples
         whether or not a callback is given, so results do not depend on it).
 
     Returns
