@@ -22,6 +22,7 @@ from polind.errors import InputError
 __all__ = ["STDOUT", "atomic_open", "atomic_write_bytes", "atomic_write_text",
            "check_output_path"]
 
+
 #: The output name that means standard output.
 STDOUT = "-"
 

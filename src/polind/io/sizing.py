@@ -57,7 +57,7 @@ def header_line(prefix):
 
 # Memory of reading a table [bytes]: the fast readers' peak per number (pyarrow's table and
 # the NumPy columns side by side; 48 bytes a row measured for t,x at 1e7 rows).  Python's
-# row-by-row reader's is polind.io.tables' to check (it reads a file the fast reader refuses).
+# row-by-row reader, for a file the fast reader refuses, is checked by polind.io.tables.
 _READ_BYTES_PER_NUMBER = 24
 
 
