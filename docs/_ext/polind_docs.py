@@ -598,6 +598,7 @@ def _imported_public(module) -> list[str]:
     ``automodule`` with ``:ignore-module-all:`` documents what the module defines
     (functions, classes, constants with a ``#:`` comment); a name it re-exports is
     documented here too, under the module's name, so a reference to it resolves.
+    A package's constants are those of its modules (:func:`_reexported_constant`).
     """
     import inspect
 
@@ -606,6 +607,9 @@ def _imported_public(module) -> list[str]:
     lines = []
     for name in getattr(module, "__all__", ()):
         value = getattr(module, name, None)
+        if value is not None and not (callable(value) or inspect.ismodule(value)):
+            lines += _reexported_constant(module, name, value)
+            continue
         if value is None or getattr(value, "__module__", module.__name__) == module.__name__:
             continue
         if name in polind.__all__ and getattr(polind, name) is value:
@@ -615,6 +619,31 @@ def _imported_public(module) -> list[str]:
         elif callable(value):
             lines += [f".. autofunction:: {module.__name__}.{name}", ""]
     return lines
+
+
+def _reexported_constant(package, name, value) -> list[str]:
+    """A ``py:data`` directive for a constant that a package imports from one of its modules.
+
+    The constant is documented under the package's name with the ``#:`` comment it
+    has in the module that defines it (as ``automodule`` documents a module's own
+    constants); one without a comment there, or not from the package's modules,
+    is left out, as ``automodule`` leaves it out.
+    """
+    import pkgutil
+
+    from sphinx.pycode import ModuleAnalyzer
+    from sphinx.util.inspect import object_description
+
+    for info in pkgutil.iter_modules(getattr(package, "__path__", [])):
+        source = importlib.import_module(f"{package.__name__}.{info.name}")
+        if getattr(source, name, None) is not value:
+            continue
+        comment = ModuleAnalyzer.for_module(source.__name__).find_attr_docs().get(("", name))
+        if comment:
+            return ([f".. py:data:: {name}", f"   :module: {package.__name__}",
+                     f"   :value: {object_description(value)}", ""]
+                    + [f"   {line}" if line else "" for line in comment] + [""])
+    return []
 
 
 def _write_if_changed(path: Path, lines) -> None:
