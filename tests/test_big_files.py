@@ -21,6 +21,7 @@ import polind
 from polind import io
 from polind.cli import _run
 from polind.errors import InputError
+from polind.io import table_output, tables
 
 from conftest import lib, representative
 from test_io import BAD_MOTIONS
@@ -51,18 +52,18 @@ def outcome(read, path):
 
 def careful(path, **kwargs):
     """read_motion_csv by Python's reader alone."""
-    original = io._read_csv_fast
-    io._read_csv_fast = lambda *args, **kw: None
+    original = tables._read_csv_fast
+    tables._read_csv_fast = lambda *args, **kw: None
     try:
         return io.read_motion_csv(path, **kwargs)
     finally:
-        io._read_csv_fast = original
+        tables._read_csv_fast = original
 
 
 @pytest.fixture
 def fast_reader(monkeypatch):
     """Every file, however small, goes to pyarrow's reader first."""
-    monkeypatch.setattr(io, "_FAST_READ_BYTES", 0)
+    monkeypatch.setattr(tables, "_FAST_READ_BYTES", 0)
 
 
 # --- the fast CSV reader agrees with the careful one --------------------------------------
@@ -120,7 +121,7 @@ def test_tricky_cases_are_what_they_claim(tmp_path):
 
 def test_fast_reader_is_used_for_well_formed_files(tmp_path, fast_reader, monkeypatch):
     path = write_file(tmp_path / "m.csv", "t,x,normal_load\n\n0,0,1\n0.5,1e-6,2\n\n1,2e-6,3\n")
-    monkeypatch.setattr(io, "_read_csv_carefully", None)        # would fail if called
+    monkeypatch.setattr(tables, "_read_csv_carefully", None)        # would fail if called
     motion = io.read_motion_csv(path)
     np.testing.assert_array_equal(motion["x"], [0.0, 1e-6, 2e-6])
     assert all(values.flags.writeable and values.flags.c_contiguous and
@@ -142,7 +143,7 @@ def test_a_big_file_reads_to_the_bit_and_names_rows_past_blank_lines(tmp_path):
     t, x = big_motion(60_000)
     text = motion_text(t, x)
     path = write_file(tmp_path / "big.csv", text)
-    assert path.stat().st_size >= io._FAST_READ_BYTES
+    assert path.stat().st_size >= tables._FAST_READ_BYTES
     motion = io.read_motion_csv(path)
     assert motion["t"].tobytes() == t.tobytes() and motion["x"].tobytes() == x.tobytes()
 
@@ -191,10 +192,10 @@ def test_python_and_pyarrow_formatters_write_the_same_text(monkeypatch):
     decimals = rng.normal(size=20_000) * 10.0 ** rng.integers(-12, 13, 20_000)
     column = np.concatenate([np.array(SPECIAL), bits, decimals, -decimals])
     columns = [column, column[::-1].copy()]
-    monkeypatch.setattr(io, "_FAST_WRITE_NUMBERS", 1 << 62)
-    by_python = "".join(io._format_rows(columns, rows_per_chunk=10_000))
-    monkeypatch.setattr(io, "_FAST_WRITE_NUMBERS", 0)
-    by_pyarrow = "".join(io._format_rows(columns, rows_per_chunk=7_001))
+    monkeypatch.setattr(table_output, "_FAST_WRITE_NUMBERS", 1 << 62)
+    by_python = "".join(table_output._format_rows(columns, rows_per_chunk=10_000))
+    monkeypatch.setattr(table_output, "_FAST_WRITE_NUMBERS", 0)
+    by_pyarrow = "".join(table_output._format_rows(columns, rows_per_chunk=7_001))
     assert by_python == by_pyarrow
     back = np.array([[float(field) for field in line.split(",")]
                      for line in by_pyarrow.splitlines()])
@@ -223,7 +224,7 @@ def test_a_big_table_round_trips_to_the_bit(tmp_path):
 def test_a_failing_big_write_leaves_nothing(tmp_path, monkeypatch):
     existing = tmp_path / "out.csv"
     existing.write_text("old\n")
-    monkeypatch.setattr(io, "_ROWS_PER_CHUNK", 1000)
+    monkeypatch.setattr(table_output, "_ROWS_PER_CHUNK", 1000)
     calls = []
 
     def fail_midway(done, total):

@@ -14,6 +14,7 @@ import pytest
 import polind
 from polind import cli
 from polind import io as polind_io
+from polind.io import table_output
 
 try:
     from test_io import BAD_MOTIONS, write_file
@@ -267,7 +268,7 @@ def test_writer_dying_midway_leaves_no_output(capsys, files, monkeypatch, existi
         yield "0,0,0,1\n0.5,"
         raise MemoryError("out of memory halfway")
 
-    monkeypatch.setattr(polind_io, "_format_rows", rows_then_failure)
+    monkeypatch.setattr(table_output, "_format_rows", rows_then_failure)
     status, _, err = run(capsys, "simulate", model_path, "-i", motion_path, "-o", output)
     assert status == 1
     assert err == "polind: internal error: MemoryError: out of memory halfway\n"

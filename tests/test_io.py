@@ -11,6 +11,7 @@ import pytest
 
 from polind import io
 from polind.errors import InputError
+from polind.io import output, table_output
 
 # One bad motion file per rule of INTERFACE.md / io.read_motion_csv: (id, content,
 # fragments the one-line message must contain besides the file's path).  test_cli.py
@@ -133,8 +134,9 @@ def test_write_csv_full_precision_round_trip(tmp_path):
 
 def test_rows_formatted_in_chunks_join_seamlessly():
     table = np.random.default_rng(2).normal(size=(20, 3))
-    assert "".join(io._format_rows(table, rows_per_chunk=7)) == "".join(io._format_rows(table))
-    assert list(io._format_rows(np.empty((0, 3)))) == []
+    chunked = "".join(table_output._format_rows(table, rows_per_chunk=7))
+    assert chunked == "".join(table_output._format_rows(table))
+    assert list(table_output._format_rows(np.empty((0, 3)))) == []
 
 
 def test_write_csv_rejects_ragged_columns(tmp_path):
@@ -153,7 +155,7 @@ def test_failed_write_leaves_nothing_and_keeps_old_file(tmp_path, monkeypatch, e
         yield "0,1\n0.5,"  # half a table, then the failure
         raise RuntimeError("disk on fire")
 
-    monkeypatch.setattr(io, "_format_rows", rows_then_failure)
+    monkeypatch.setattr(table_output, "_format_rows", rows_then_failure)
     with pytest.raises(RuntimeError, match="disk on fire"):
         io.write_csv_atomic(path, {"t": [0.0, 0.5], "F": [1.0, 2.0]})
     assert sorted(os.listdir(tmp_path)) == ([] if existing is None else ["out.csv"])
@@ -167,7 +169,7 @@ def test_os_error_while_writing_is_input_error_and_leaves_nothing(tmp_path, monk
     def fsync_fails(descriptor):
         raise OSError(28, "No space left on device")
 
-    monkeypatch.setattr(io.os, "fsync", fsync_fails)
+    monkeypatch.setattr(output.os, "fsync", fsync_fails)
     with pytest.raises(InputError, match=r"out.txt: cannot write: No space left"):
         io.atomic_write_text(path, "hello\n")
     assert os.listdir(tmp_path) == []

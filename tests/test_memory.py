@@ -21,6 +21,7 @@ import polind
 from polind import io, resources
 from polind.cli import _run
 from polind.errors import InputError
+from polind.io import tables
 from polind.models.pol_ind import default_table
 
 MAXWELL_SLIP = {"model": {"type": "maxwell-slip", "stiffness": [1e5, 5e4, 2e4, 1e4],
@@ -53,7 +54,7 @@ def write_motion(path, samples, force=False):
 def forbid_reading(monkeypatch):
     def refuse(*args, **kwargs):
         raise AssertionError("the file was read before the memory check")
-    monkeypatch.setattr(io, "read_csv_columns", refuse)
+    monkeypatch.setattr(tables, "read_csv_columns", refuse)
 
 
 def test_table_size_counts_a_small_file_and_estimates_a_big_one(tmp_path):
@@ -122,7 +123,7 @@ def test_reading_a_big_file_row_by_row_is_checked_too(tmp_path, limit, monkeypat
     motion = write_motion(tmp_path / "motion.csv", 100_000)
     # The fast reader refuses (as it refuses a quoted field); the careful reader would
     # hold about six times the file.
-    monkeypatch.setattr(io, "_read_csv_fast", lambda *args, **kwargs: None)
+    monkeypatch.setattr(tables, "_read_csv_fast", lambda *args, **kwargs: None)
     limit(4 * motion.stat().st_size)
     with pytest.raises(InputError, match=f"^{motion}: reading its .* MB row by row"):
         io.read_motion_csv(motion)

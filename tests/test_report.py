@@ -150,7 +150,8 @@ def test_progress_bar_object():
 def test_files_are_replaced_atomically(demo_run, tmp_path, monkeypatch):
     """Writing again replaces every file and leaves no temporary file behind; a write
     that fails leaves the previous file as it was."""
-    from polind import io, report
+    from polind import report
+    from polind.io import output
     from polind.report import writer
 
     _, summary, _ = demo_run
@@ -171,7 +172,7 @@ def test_files_are_replaced_atomically(demo_run, tmp_path, monkeypatch):
             raise OSError(28, "No space left on device")
         real_replace(source, target)
 
-    monkeypatch.setattr(io.os, "replace", refuse_the_page)
+    monkeypatch.setattr(output.os, "replace", refuse_the_page)
     (tmp_path / "report.html").write_text("old page")
     with pytest.raises(ValueError, match="report.html"):
         report.write_report(summary["results"], tmp_path)

@@ -11,6 +11,7 @@ import pytest
 
 import polind
 from polind import io
+from polind.io import output
 from polind.models.pol_ind import default_table
 from conftest import REPRESENTATIVE, lib
 
@@ -115,12 +116,12 @@ def test_written_as_every_output_is(tmp_path, monkeypatch, capsys):
     def full_disk(source, target):
         raise OSError(28, "No space left on device")
 
-    monkeypatch.setattr(io.os, "replace", full_disk)
+    monkeypatch.setattr(output.os, "replace", full_disk)
     with pytest.raises(polind.InputError, match="No space left"):
         polind.save_model(model, path)
     assert path.read_text() == "old\n"
     assert os.listdir(tmp_path) == ["model.toml"]              # no temporary file left
-    monkeypatch.setattr(io.os, "replace", real_replace)
+    monkeypatch.setattr(output.os, "replace", real_replace)
     polind.save_model(model, path)
     assert polind.load_model(path) == model
     # "-" is standard output

@@ -450,7 +450,7 @@ MODULES = (
 
 # Packages of MODULES documented as one module (the names their own modules define are
 # theirs, as when they were one file): see _imported_public.
-WHOLE_PACKAGES = ("polind.identification",)
+WHOLE_PACKAGES = ("polind.identification", "polind.io")
 
 
 def _autosummary(names, module):

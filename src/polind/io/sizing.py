@@ -1,0 +1,120 @@
+"""A table sized before it is read, and refused when reading it would pass the memory limit.
+
+:func:`table_size` gives the rows and columns of a CSV or Parquet table from
+its first bytes or its metadata, without reading it all (and without opening
+a pipe, whose data would be lost); :func:`check_table_memory` refuses, with an
+:class:`~polind.errors.InputError` naming the file, a table whose reading and
+use would pass :func:`polind.resources.memory_limit`.  :func:`header_line`
+finds a CSV file's header in its first :data:`HEADER_BYTES`, for the sizes
+here and for the fast reader of :mod:`polind.io.tables`.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import stat
+
+from polind.io.columns import is_parquet
+from polind.resources import check_memory
+
+__all__ = ["HEADER_BYTES", "check_table_memory", "header_line", "table_size"]
+
+
+#: A CSV file's header must lie in its first bytes, for its size and for the fast reader.
+HEADER_BYTES = 1 << 16
+
+
+def header_line(prefix):
+    """``(row, text, end)`` of the first non-blank line in a file's first bytes, else None.
+
+    ``row`` is its line number, ``end`` the offset just after its newline.
+    Lines end as :func:`~polind.io.text.read_text` ends them (``\\n``, ``\\r\\n`` or ``\\r``)
+    and a byte-order mark is skipped.  None when the header does not end within
+    ``prefix`` or is not UTF-8: the careful reader then reads the file.
+    """
+    start = 3 if prefix.startswith(b"\xef\xbb\xbf") else 0
+    row = 1
+    while True:
+        ends = [end for end in (prefix.find(b"\n", start), prefix.find(b"\r", start)) if end >= 0]
+        if not ends:
+            return None
+        end = min(ends)
+        after = end + 1
+        if prefix[end:after] == b"\r":
+            if after == len(prefix):
+                return None                       # "\r" or "\r\n": the next read would tell
+            if prefix[after:after + 1] == b"\n":
+                after += 1
+        try:
+            text = prefix[start:end].decode("utf-8")
+        except UnicodeDecodeError:
+            return None
+        if text.strip():
+            return row, text, after
+        row, start = row + 1, after
+
+
+# Memory of reading a table [bytes]: the fast readers' peak per number (pyarrow's table and
+# the NumPy columns side by side; 48 bytes a row measured for t,x at 1e7 rows).  Python's
+# row-by-row reader, for a file the fast reader refuses, is checked by polind.io.tables.
+_READ_BYTES_PER_NUMBER = 24
+
+
+def table_size(path) -> tuple[int, int, bool]:
+    """``(rows, columns, exact)`` of a CSV or Parquet table, without reading all of it.
+
+    A Parquet file's metadata gives them exactly.  A CSV file's columns are
+    those of its header, and its data rows are counted in a file of 64 KiB or
+    less; a bigger one's are its size over the mean length of the rows in
+    its first 64 KiB (``exact`` False).  A file that cannot be read gives
+    ``(0, 0, True)``: its reader names the problem.
+    """
+    name = os.fspath(path)
+    if is_parquet(name):
+        try:
+            import pyarrow.parquet as pq
+
+            metadata = pq.read_metadata(name)
+        except Exception:                      # noqa: BLE001 - the reader names it
+            return 0, 0, True
+        return int(metadata.num_rows), int(metadata.num_columns), True
+    try:
+        if not stat.S_ISREG(os.stat(name).st_mode):
+            return 0, 0, True        # a pipe is not opened twice (its data would be lost)
+        with open(name, "rb") as stream:
+            size = os.fstat(stream.fileno()).st_size
+            prefix = stream.read(HEADER_BYTES)
+    except OSError:
+        return 0, 0, True
+    header = header_line(prefix)
+    if header is None:
+        return 0, 0, True
+    _, text, offset = header
+    columns = text.count(",") + 1
+    body = prefix[offset:].replace(b"\r\n", b"\n").replace(b"\r", b"\n")
+    if len(prefix) == size:
+        return sum(1 for line in body.split(b"\n") if line.strip()), columns, True
+    complete = body[:body.rfind(b"\n") + 1]
+    rows = sum(1 for line in complete.split(b"\n") if line.strip())
+    # The shortest row is a digit and a comma per column: never fewer rows than that allows.
+    mean = len(complete) / rows if rows else 2.0 * columns
+    return math.ceil((size - offset) / mean), columns, False
+
+
+def check_table_memory(path, bytes_per_row=0.0, use="reading") -> None:
+    """Refuse (InputError naming the file) a table whose reading and use would pass the limit.
+
+    The estimate, made before anything is read: the rows of
+    :func:`table_size` times the fast reader's peak per row
+    (``_READ_BYTES_PER_NUMBER`` a number) and ``bytes_per_row`` that the
+    caller's run holds per row besides.  ``use`` names the run in the
+    message (``"simulating"``...).  The limit is
+    :func:`polind.resources.memory_limit` (``--max-memory``).
+    """
+    name = os.fspath(path)
+    rows, columns, exact = table_size(name)
+    check_memory(rows * (_READ_BYTES_PER_NUMBER * columns + bytes_per_row),
+                 f"{name}: {use} its {rows:.3g} rows of {columns} column"
+                 f"{'s' if columns != 1 else ''}"
+                 f"{'' if exact else ' (estimated from the size of the file)'}")

@@ -1,0 +1,423 @@
+"""Reading tables of numbers: CSV and Parquet, motion, measured data and summit heights.
+
+:func:`read_csv_columns` reads a CSV table with a header row, or a Parquet
+table (:func:`read_parquet_columns`) when the name ends in ``.parquet``,
+under the rules of :mod:`polind.io.columns`; :func:`read_motion_csv` reads a
+motion or measured-data file (``t`` increasing, at least two rows) and
+:func:`read_heights_csv` a file of summit heights.
+
+Big tables go at disk speed: pyarrow's C reader parses a CSV file of 1 MiB or
+more (Python's row-by-row reader takes any file it refuses, and names the bad
+row), and every float64 reads back bit for bit.  A table is sized before it
+is read and refused when reading it would pass the memory limit
+(:func:`polind.io.sizing.check_table_memory`).  Rows are numbered as lines
+of the file, the header being row 1, so that an editor's line number or a
+spreadsheet's row number points at the offending row.
+"""
+
+from __future__ import annotations
+
+import os
+import stat
+
+import numpy as np
+
+from polind.errors import InputError, describe
+from polind.io.columns import (
+    MOTION_COLUMNS,
+    check_header,
+    check_values,
+    expected_columns,
+    is_parquet,
+)
+from polind.io.sizing import HEADER_BYTES, check_table_memory, header_line
+from polind.io.text import read_text
+from polind.resources import check_memory
+
+__all__ = ["read_csv_columns", "read_heights_csv", "read_motion_csv", "read_parquet_columns"]
+
+
+def _parse_rows(name, columns, rows) -> np.ndarray:
+    """The data rows as an (n_rows, n_columns) float64 array.
+
+    numpy's parser takes the common case at C speed; if it refuses anything,
+    the rows are read one by one to name the first bad row and column.
+    """
+    try:
+        values = np.loadtxt([line for _, line in rows], delimiter=",", comments=None,
+                            dtype=np.float64, ndmin=2)
+        if values.shape == (len(rows), len(columns)):
+            return values
+    except ValueError:
+        pass
+    values = np.empty((len(rows), len(columns)))
+    for index, (row, line) in enumerate(rows):
+        fields = line.split(",")
+        if len(fields) != len(columns):
+            raise InputError(f"{name}: row {row}: expected {len(columns)} comma-separated "
+                             f"fields ({','.join(columns)}), got {len(fields)}")
+        for column_index, (column, text) in enumerate(zip(columns, fields)):
+            text = text.strip()
+            try:
+                if "_" in text:  # float() accepts 1_000; a data file should not
+                    raise ValueError(text)
+                values[index, column_index] = float(text)
+            except ValueError:
+                raise InputError(f"{name}: row {row}, column '{column}': expected a number, "
+                                 f"got {describe(text)}") from None
+    return values
+
+
+def _read_csv_carefully(name, require, one_of, optional, min_rows):
+    """Python's reader: the columns, and the line number of every data row.
+
+    It names the first bad row and column of any file, and it is the
+    reference the fast reader must agree with.
+    """
+    lines = read_text(name).split("\n")
+    rows = [(number, line) for number, line in enumerate(lines, start=1) if line.strip()]
+    if not rows:
+        raise InputError(f"{name}: the file is empty; expected a header row with the columns "
+                         f"{expected_columns(require, one_of, optional)}")
+    (header_row, header), rows = rows[0], rows[1:]
+    columns = [column.strip() for column in header.split(",")]
+    check_header(name, header_row, columns, require, one_of, optional)
+    if not rows:
+        raise InputError(f"{name}: no data rows after the header (row {header_row}); "
+                         f"expected at least {min_rows} row{'s' if min_rows != 1 else ''} "
+                         f"of numbers")
+    values = _parse_rows(name, columns, rows)
+    row_numbers = [row for row, _ in rows]
+    del rows, lines
+    table = {column: np.ascontiguousarray(values[:, j]) for j, column in enumerate(columns)}
+    return table, row_numbers
+
+
+# A CSV file from this size on is read by pyarrow's C reader (a smaller one by Python:
+# as fast, without importing pyarrow).
+_FAST_READ_BYTES = 1 << 20
+# Memory of Python's row-by-row reader per byte of the file [bytes] (its text, lines and
+# rows; it reads a file the fast reader refuses).  The fast reader's is that of
+# polind.io.sizing.check_table_memory.
+_CAREFUL_READ_BYTES_PER_BYTE = 6
+
+
+def _read_csv_fast(name, require, one_of, optional, progress=None):
+    """pyarrow's C reader: the columns of a big well-formed file, else None.
+
+    None means "read it carefully": a file that is small or not a regular
+    file, a header that is not where this reader looks or has a mistake, and
+    any row pyarrow refuses (it parses numbers exactly as ``float`` does, but
+    refuses more: quotes, whitespace-only lines, ``1_000``...).  Truly empty
+    lines are skipped, as the careful reader skips them.
+    """
+    try:
+        # Looked at before opening: a pipe opened here would lose what it carries.
+        info = os.stat(name)
+        if not stat.S_ISREG(info.st_mode) or info.st_size < _FAST_READ_BYTES:
+            return None
+        with open(name, "rb") as stream:
+            header = header_line(stream.read(HEADER_BYTES))
+    except OSError:
+        return None                               # the careful reader names the problem
+    if header is None:
+        return None
+    header_row, text, offset = header
+    columns = [column.strip() for column in text.split(",")]
+    try:
+        check_header(name, header_row, columns, require, one_of, optional)
+    except InputError:
+        return None                               # named by the careful reader, as it always was
+
+    import pyarrow as pa
+    import pyarrow.csv as pacsv
+
+    float64 = pa.float64()
+    size = info.st_size
+    batches = []
+    try:
+        with pa.OSFile(name, "r") as source:
+            source.seek(offset)
+            reader = pacsv.open_csv(
+                source,
+                read_options=pacsv.ReadOptions(column_names=columns, block_size=1 << 21),
+                parse_options=pacsv.ParseOptions(delimiter=",", quote_char=False,
+                                                  escape_char=False, ignore_empty_lines=True),
+                convert_options=pacsv.ConvertOptions(
+                    column_types={column: float64 for column in columns}, null_values=[],
+                    strings_can_be_null=False, quoted_strings_can_be_null=False))
+            for batch in reader:
+                batches.append(batch)
+                if progress is not None:
+                    progress(min(source.tell(), size), size)
+    except (pa.ArrowException, OSError, ValueError):
+        return None
+    if not batches or sum(batch.num_rows for batch in batches) == 0:
+        return None
+    held = [pa.Table.from_batches(batches)]
+    del batches, reader
+    return _numpy_columns(held, columns)
+
+
+def _numpy_columns(held, columns):
+    """The columns of the pyarrow table in ``held`` (a list, emptied: the table is freed a
+    column at a time) as writeable float64 arrays."""
+    import pyarrow as pa
+
+    table = held.pop()
+    rows = table.num_rows
+    arrays = {}
+    for column in columns:
+        values = np.empty(rows)
+        offset = 0
+        for chunk in table.column(column).chunks:
+            values[offset:offset + len(chunk)] = chunk.to_numpy(zero_copy_only=False)
+            offset += len(chunk)
+        arrays[column] = values
+        table = table.drop_columns([column])
+    del table
+    pa.default_memory_pool().release_unused()
+    return arrays
+
+
+def _csv_row_lines(name, indices):
+    """The line numbers of data rows ``indices`` (0: the first row after the header) of a CSV
+    file, with lines and blank lines counted as the careful reader counts them."""
+    wanted = set(int(index) for index in indices)
+    found = {}
+    index = -2                                    # the header is the first non-blank line
+    with open(name, encoding="utf-8-sig", newline=None) as stream:
+        for number, line in enumerate(stream, start=1):
+            if not line.strip():
+                continue
+            index += 1
+            if index in wanted:
+                found[index] = number
+                if len(found) == len(wanted):
+                    break
+    return [found[int(index)] for index in indices]
+
+
+
+def read_csv_columns(path, require, one_of=(), optional=(), *, min_rows=1,
+                     increasing=None, positive=(), progress=None) -> dict[str, np.ndarray]:
+    """Read a CSV table of numbers with a header row, checking its columns.
+
+    A name ending in ``.parquet`` is read by :func:`read_parquet_columns`
+    instead, with the same rules.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The CSV file: a header row naming the columns, then one row of numbers
+        per sample, fields separated by commas.  Blank lines are skipped;
+        whitespace around names and numbers is ignored.
+    require : sequence of str
+        Columns that must be present.
+    one_of : sequence of str
+        Exactly one of these columns must be present (empty: no such rule).
+    optional : sequence of str
+        Columns that may be present.  Any column not named in ``require``,
+        ``one_of`` or ``optional`` is an error.
+    min_rows : int
+        Fewest data rows accepted.
+    increasing : str, optional
+        A column whose values must increase strictly down the file.
+    positive : sequence of str
+        Columns whose values must be positive (e.g. a normal load).
+    progress : callable, optional
+        ``progress(done, total)`` [bytes of the file], called as the file is
+        read (a small file: once, at the end).
+
+    Returns
+    -------
+    dict of str to numpy.ndarray
+        The present columns, each a 1-D float64 array, read to the bit
+        (``float`` of each field).
+
+    Raises
+    ------
+    InputError
+        Naming the file and the row (line number) or column: empty file, no
+        data rows, unknown/duplicated/missing columns, neither or both of
+        ``one_of``, a row with the wrong number of fields, text where a number
+        was expected, NaN or infinity, too few rows, a non-increasing value
+        in the ``increasing`` column, a value <= 0 in a ``positive`` column.
+
+    Notes
+    -----
+    A file of 1 MiB or more is read by pyarrow's C reader, at disk speed.
+    Any file it refuses, and any NaN or infinity, is read again by Python's
+    row-by-row reader, which names the first bad row; the two agree on every
+    value and every message.
+    """
+    name = os.fspath(path)
+    rules = {"min_rows": min_rows, "increasing": increasing, "positive": positive}
+    if is_parquet(name):
+        return read_parquet_columns(name, require, one_of, optional, progress=progress, **rules)
+    check_table_memory(name)
+    table = _read_csv_fast(name, require, one_of, optional, progress)
+    if table is not None:
+        if all(np.isfinite(values).all() for values in table.values()):
+            check_values(name, table, lambda indices: _csv_row_lines(name, indices), **rules)
+            _report_read(name, progress)
+            return table
+        del table     # a NaN or an infinity: named by the careful reader as the text has it
+    _check_careful_memory(name)
+    table, row_numbers = _read_csv_carefully(name, require, one_of, optional, min_rows)
+    check_values(name, table, lambda indices: [row_numbers[index] for index in indices],
+                  **rules)
+    _report_read(name, progress)
+    return table
+
+
+def _check_careful_memory(name):
+    """Refuse reading a big file row by row (the fast reader refused it) beyond the limit."""
+    try:
+        size = os.path.getsize(name)
+    except OSError:
+        return                                    # the careful reader names the problem
+    if size >= _FAST_READ_BYTES:
+        check_memory(size * _CAREFUL_READ_BYTES_PER_BYTE,
+                     f"{name}: reading its {size / 1e6:.3g} MB row by row (a row that the "
+                     f"fast reader does not take, such as a nan, a quote or a blank line "
+                     f"with spaces)")
+
+
+def _report_read(name, progress):
+    """Tell ``progress`` that the whole file is read."""
+    if progress is not None:
+        size = os.path.getsize(name)
+        progress(size, size)
+
+
+def read_parquet_columns(path, require, one_of=(), optional=(), *, min_rows=1,
+                         increasing=None, positive=(), progress=None) -> dict[str, np.ndarray]:
+    """Read a Parquet table of numbers, with the rules of :func:`read_csv_columns`.
+
+    Columns of integers or floats are read as float64.  A message names the
+    file and the column, and the row where a value breaks a rule; rows of a
+    Parquet file are counted from 1 (it has no header row).
+
+    Raises
+    ------
+    InputError
+        As :func:`read_csv_columns`, and: not a Parquet file, a column that
+        is not numbers, a missing value (null).
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> from polind.io import write_csv_atomic
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> write_csv_atomic(folder / "m.parquet", {"t": [0.0, 1.0], "x": [0.0, 1e-6]})
+    >>> read_parquet_columns(folder / "m.parquet", ["t", "x"])["x"]
+    array([0.e+00, 1.e-06])
+    """
+    name = os.fspath(path)
+    try:
+        info = os.stat(name)
+    except FileNotFoundError:
+        raise InputError(f"{name}: no such file") from None
+    except OSError as exc:
+        raise InputError(f"{name}: cannot read the file: {exc.strerror or exc}") from None
+    if stat.S_ISDIR(info.st_mode):
+        raise InputError(f"{name}: is a directory; expected a file")
+    check_table_memory(name)
+
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    try:
+        parquet = pq.ParquetFile(name)
+    except OSError as exc:
+        raise InputError(f"{name}: cannot read the file: {exc.strerror or exc}") from None
+    except (pa.ArrowException, ValueError) as exc:
+        raise InputError(f"{name}: not a Parquet file ({exc})") from None
+    try:
+        schema = parquet.schema_arrow
+        columns = list(schema.names)
+        check_header(name, None, columns, require, one_of, optional)
+        for field in schema:
+            if not (pa.types.is_integer(field.type) or pa.types.is_floating(field.type)):
+                raise InputError(f"{name}: column '{field.name}': expected numbers, "
+                                 f"got values of type {field.type}")
+        rows = parquet.metadata.num_rows
+        if rows == 0:
+            raise InputError(f"{name}: no data rows; expected at least {min_rows} "
+                             f"row{'s' if min_rows != 1 else ''} of numbers")
+        groups, done = [], 0
+        for index in range(parquet.num_row_groups):
+            groups.append(parquet.read_row_group(index, columns=columns))
+            done += groups[-1].num_rows
+            if progress is not None:
+                progress(info.st_size * done // rows, info.st_size)
+        table = pa.concat_tables(groups)
+        del groups
+    except InputError:
+        raise
+    except OSError as exc:
+        raise InputError(f"{name}: cannot read the file: {exc.strerror or exc}") from None
+    except (pa.ArrowException, ValueError) as exc:
+        raise InputError(f"{name}: not a valid Parquet file ({exc})") from None
+    finally:
+        parquet.close()
+    for column in columns:
+        if table.column(column).null_count:
+            missing = table.column(column).is_null().to_numpy(zero_copy_only=False)
+            raise InputError(f"{name}: row {int(np.argmax(missing)) + 1}, column '{column}': "
+                             f"expected a number, got a missing value (null)")
+    held = [table]
+    del table
+    table = _numpy_columns(held, columns)
+    check_values(name, table, lambda indices: [int(index) + 1 for index in indices],
+                  min_rows=min_rows, increasing=increasing, positive=positive)
+    _report_read(name, progress)
+    return table
+
+
+def read_motion_csv(path, require=MOTION_COLUMNS["require"], one_of=MOTION_COLUMNS["one_of"],
+                    optional=MOTION_COLUMNS["optional"], *,
+                    positive=("normal_load",), progress=None) -> dict[str, np.ndarray]:
+    """Read a table of samples in time: a prescribed motion or measured data.
+
+    The rules of :func:`read_csv_columns`, with at least two rows, the time
+    ``t`` strictly increasing (when ``t`` is a column) and a ``normal_load``
+    column positive.  The defaults are the
+    motion file of ``polind simulate`` (``t``, one of ``x``/``v``, optionally
+    ``normal_load``); measured data for ``polind fit`` is
+    ``read_motion_csv(path, **MEASUREMENT_COLUMNS)`` (adds ``F``).  A name
+    ending in ``.parquet`` is read as Parquet (same columns).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The CSV or Parquet file.
+    require, one_of, optional, positive : sequence of str
+        Column names, as in :func:`read_csv_columns`.
+    progress : callable, optional
+        ``progress(done, total)`` [bytes of the file], as the file is read.
+
+    Returns
+    -------
+    dict of str to numpy.ndarray
+        The present columns as float64 arrays, e.g. ``{"t": ..., "x": ...}``.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> motion = pathlib.Path(tempfile.mkdtemp()) / "motion.csv"
+    >>> _ = motion.write_text("t,x\\n0,0\\n0.5,1e-6\\n1,2e-6\\n")
+    >>> read_motion_csv(motion)["x"]
+    array([0.e+00, 1.e-06, 2.e-06])
+    """
+    return read_csv_columns(path, require, one_of, optional, min_rows=2, increasing="t",
+                            positive=positive, progress=progress)
+
+
+def read_heights_csv(path) -> np.ndarray:
+    """Measured asperity summit heights [m]: a CSV with one column ``h``.
+
+    The ``heights_file`` of a direct-summation Pol-Ind model (:ref:`formats-measured-surface`).
+    """
+    return read_csv_columns(path, require=("h",))["h"]
