@@ -363,46 +363,46 @@ def bench(models, big_files):
     and peak memory of a `polind simulate` process of a 4-element
     Maxwell-slip model along a 1e7-sample motion CSV (targets 8 s, 1 GB).
     """
-    from polind import bench as benchmark
+    from polind.bench import big_files as big, harness, ratios, surfaces
     from polind.models import MODEL_TYPES
 
     for model_type in models:
         if model_type not in MODEL_TYPES:
             raise InputError(f"Unknown model type '{model_type}' for option '--model'; expected "
                              f"one of: {', '.join(sorted(MODEL_TYPES))}.")
-        if model_type not in benchmark.CASES:
+        if model_type not in harness.CASES:
             raise InputError(f"The benchmark has no case for '{model_type}' (option "
-                             f"'--model'); expected one of: {', '.join(benchmark.CASES)}.")
-    cases = benchmark.cases(list(models) or None)
+                             f"'--model'); expected one of: {', '.join(harness.CASES)}.")
+    cases = harness.cases(list(models) or None)
     rows = []
     click.echo("polind bench: one thread, best of 3 timed runs after a warm-up")
-    click.echo(benchmark.format_table([]))
+    click.echo(harness.format_table([]))
     with progress(total=len(cases), description="bench", unit=" cases") as bar:
         for model_type, n in cases:
-            rows.append(benchmark.run_case(model_type, n))
+            rows.append(harness.run_case(model_type, n))
             bar.clear()
-            click.echo(benchmark.format_table(rows[-1:]).splitlines()[-1])
+            click.echo(harness.format_table(rows[-1:]).splitlines()[-1])
             bar.update()
     if not models or "pol-ind" in models:
-        separation = benchmark.run_separation()
+        separation = surfaces.run_separation()
         click.echo(f"\npol-ind separation solve, {separation.asperities:,} sampled asperities "
                    f"(direct summation): {separation.solve_seconds * 1e3:.2f} ms, "
                    f"{separation.evaluations} load evaluations, |N(d) - N|/N = "
                    f"{separation.relative_residual:.1e} (building the sorted surface: "
                    f"{separation.build_seconds * 1e3:.0f} ms, once per surface)")
-        surface = benchmark.run_topography()
+        surface = surfaces.run_topography()
         click.echo(f"height map {surface.size} x {surface.size} (.npy) read, levelled and "
                    f"reduced to {surface.summits:,} summits: {surface.analyse_seconds:.2f} s "
                    f"(target 10 s); a pol-ind model on it at 1 N ({surface.elements} summits in "
                    f"contact): {surface.model_seconds:.2f} s")
     if not models:
-        click.echo("\n" + benchmark.format_ratios([]))
-        benchmark.run_ratios(progress=lambda row: click.echo(
-            benchmark.format_ratios([row]).splitlines()[-1]))
+        click.echo("\n" + ratios.format_ratios([]))
+        ratios.run_ratios(progress=lambda row: click.echo(
+            ratios.format_ratios([row]).splitlines()[-1]))
     if big_files:
         with progress(description="big files", unit="") as bar:
-            row = benchmark.run_big_files(progress=bar.set_description_str)
-        click.echo("\n" + benchmark.format_big_files(row))
+            row = big.run_big_files(progress=bar.set_description_str)
+        click.echo("\n" + big.format_big_files(row))
 
 
 @cli.command()
