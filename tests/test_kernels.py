@@ -7,6 +7,7 @@ from polind.kernels.fastexp import decay_exp_array
 from polind.kernels.stribeck import EXPONENTIAL, RATIONAL
 from polind.models.static import stribeck_curve
 from polind.bench import harness
+from polind.bench.references import numpy_reference
 
 
 def test_decay_exp_matches_numpy_within_its_documented_error():
@@ -47,7 +48,7 @@ def test_kernels_agree_with_the_plain_numpy_loops_of_the_benchmark(model_type, n
     model = harness.bench_model(model_type, n)
     path = harness.bench_path(4000 if model_type != "leuven" else 400)
     kernel = model._advance(path, model.initial_state(), None)
-    reference = harness._numpy_reference(model_type, model, path)
+    reference = numpy_reference(model)(path)
     scale = np.max(np.abs(reference))
     assert scale > 0
     assert np.max(np.abs(kernel - reference)) <= 1e-11 * scale

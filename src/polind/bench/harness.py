@@ -1,13 +1,17 @@
 """The benchmark's harness: the cases, their timing, and the table ``polind bench`` prints.
 
-For each model and element count it times the model's kernel over a
-prescribed path (the hot loop: the element update) and, in the same run,
-the same work done by the model's plain NumPy loop
-(:mod:`polind.bench.references`) — the step loop in Python, the elements
-vectorised — and reports element-steps per second and their ratio.  The
-forces of the two are compared, so both sides demonstrably do the same work.
-Times are the best of a few repeats after a warm-up call (which also loads
-numba's cache).
+The cases come from the model registry: every registered model is
+benchmarked, a model with elements (``has_elements``) at every count of
+:data:`ELEMENT_COUNTS` (``example(elements=n)``), any other once
+(``example()``).  For each case it times the model's kernel over a
+prescribed path (the hot loop: the element update) and, in the same run, the
+same work done by the model's plain NumPy loop
+(:func:`polind.bench.references.numpy_reference`) — the step loop in Python,
+the elements vectorised — and reports element-steps per second and their
+ratio.  The forces of the two are compared, so both sides demonstrably do the
+same work.  A model without a NumPy loop (a plugin's, a new one) is timed
+all the same; its NumPy column and ratio are "—".  Times are the best of a
+few repeats after a warm-up call (which also loads numba's cache).
 
 The motion is a sinusoid whose amplitude is large against the element slip
 distances, so the elements cycle through stick and slip and every branch of
@@ -21,16 +25,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from polind.bench.references import (numpy_dahl, numpy_gms, numpy_leuven, numpy_lugre,
-                                     numpy_maxwell_slip, numpy_stribeck)
-from polind.errors import InputError
-from polind.models import model_from_dict
+from polind.bench.references import numpy_reference
+from polind.models.registry import load_plugins, model_class
 from polind.simulate import make_path
 
+#: The element counts a model with elements is benchmarked at.
 ELEMENT_COUNTS = (1, 64, 1024)
 
-_STRIBECK = {"coulomb_force": 1.0, "static_force": 1.5, "stribeck_velocity": 1e-3,
-             "stribeck_exponent": 2.0}
+#: What the table shows where a model has no NumPy loop.
+MISSING = "—"
 
 
 @dataclass
@@ -38,123 +41,51 @@ class BenchRow:
     model: str
     elements: int
     steps: int
-    kernel_rate: float      # element-steps per second, numba kernel
-    numpy_rate: float       # element-steps per second, plain NumPy loop
-    max_difference: float   # max |F_kernel - F_numpy| / max |F|
+    kernel_rate: float                    # element-steps per second, numba kernel
+    numpy_rate: float | None = None       # element-steps per second, plain NumPy loop
+    max_difference: float | None = None   # max |F_kernel - F_numpy| / max |F|
 
     @property
-    def ratio(self) -> float:
-        return self.kernel_rate / self.numpy_rate
-
-
-def _elements(n, seed=0):
-    rng = np.random.default_rng(seed)
-    stiffness = 10.0 ** rng.uniform(5.0, 7.0, n)
-    slip = 10.0 ** rng.uniform(-7.0, -5.0, n)
-    breakaway = stiffness * slip
-    return stiffness, breakaway
-
-
-def _maxwell_slip_table(n):
-    stiffness, breakaway = _elements(n)
-    return {"stiffness": stiffness.tolist(), "breakaway_force": breakaway.tolist()}
-
-
-def _gms_table(n):
-    stiffness, breakaway = _elements(n)
-    return {"stiffness": stiffness.tolist(), "weight": (breakaway / breakaway.sum()).tolist(),
-            "attraction": 1e4, **_STRIBECK}
-
-
-def _leuven_table(n):
-    stiffness, breakaway = _elements(n)
-    scaled = breakaway * (_STRIBECK["static_force"] / breakaway.sum())
-    return {"stiffness": stiffness.tolist(), "breakaway_force": scaled.tolist(),
-            "exponent": 2.0, "bristle_damping": 10.0, **_STRIBECK}
-
-
-def _pol_ind_table(n):
-    from polind.models.pol_ind import default_table
-    table = default_table()
-    table["discretisation"]["elements"] = n
-    return table
+    def ratio(self) -> float | None:
+        """numba over NumPy, or None without a NumPy loop."""
+        return None if self.numpy_rate is None else self.kernel_rate / self.numpy_rate
 
 
 def bench_path(steps, amplitude=2e-5, frequency=2.0, dt=1e-4):
+    """The benchmark's motion: ``steps`` samples of a sinusoid (20 um, 2 Hz) at 10 kHz."""
     t = np.arange(steps) * dt
     return make_path(t, x=amplitude * np.sin(2.0 * np.pi * frequency * t))
 
 
-def _curve(p):
-    return [p[key] for key in ("coulomb_force", "static_force", "stribeck_velocity",
-                               "stribeck_exponent")]
+def model_types(models=None):
+    """The model types to benchmark: ``models``, or every registered one (plugins loaded).
 
-
-def _gms_reference(p, path):
-    return numpy_gms(path, np.array(p["stiffness"]), np.array(p["weight"]), p["attraction"],
-                     *_curve(p))
-
-
-@dataclass(frozen=True)
-class BenchCase:
-    """One benchmarked model: its parameter table at ``n`` elements and its NumPy loop.
-
-    ``table(n)`` gives the ``[model]`` keys besides ``type``; ``reference(model,
-    path)`` runs the plain NumPy loop of the same physics; ``elements`` says
-    whether the model is run at every element count or once.
+    A name that is not a registered type is an :class:`~polind.InputError`
+    listing the registered ones.
     """
-
-    table: object
-    reference: object
-    elements: bool = False
-
-
-#: The benchmark's cases, by model type: the models it times and the NumPy loops it
-#: times them against (written from the mathematics, not from the kernels).
-CASES = {
-    "maxwell-slip": BenchCase(_maxwell_slip_table, lambda model, path: numpy_maxwell_slip(
-        path, np.array(model.params["stiffness"]), np.array(model.params["breakaway_force"])),
-        elements=True),
-    "gms": BenchCase(_gms_table, lambda model, path: _gms_reference(model.params, path),
-                     elements=True),
-    # At its constant load Pol-Ind is the GMS of its element table (user guide, "The
-    # rate-state law").
-    "pol-ind": BenchCase(_pol_ind_table,
-                         lambda model, path: _gms_reference(model.gms_parameters(), path),
-                         elements=True),
-    "leuven": BenchCase(_leuven_table, lambda model, path: numpy_leuven(
-        path, np.array(model.params["stiffness"]), np.array(model.params["breakaway_force"]),
-        model.params["exponent"], model.params["bristle_damping"], *_curve(model.params)),
-        elements=True),
-    "lugre": BenchCase(lambda n: {"bristle_stiffness": 1e5, "bristle_damping": 316.2,
-                                  **_STRIBECK},
-                       lambda model, path: numpy_lugre(
-                           path, model.params["bristle_stiffness"],
-                           model.params["bristle_damping"], *_curve(model.params))),
-    "dahl": BenchCase(lambda n: {"stiffness": 1e5, "coulomb_force": 1.0},
-                      lambda model, path: numpy_dahl(path, model.params["stiffness"],
-                                                     model.params["coulomb_force"])),
-    "stribeck": BenchCase(lambda n: {"viscous_coefficient": 0.4, **_STRIBECK},
-                          lambda model, path: numpy_stribeck(
-                              path, *_curve(model.params),
-                              model.params["viscous_coefficient"])),
-}
+    if not models:
+        return list(load_plugins())
+    for model_type in models:
+        model_class(model_type, "for the benchmark")
+    return list(models)
 
 
-def _case(model_type):
-    if model_type not in CASES:
-        raise InputError(f"The benchmark has no case for the model type '{model_type}'; it "
-                         f"benchmarks: {', '.join(CASES)}.")
-    return CASES[model_type]
+def element_counts(model_type):
+    """The element counts a type is run at: :data:`ELEMENT_COUNTS` with elements, else (1,)."""
+    return ELEMENT_COUNTS if model_class(model_type).has_elements else (1,)
 
 
-def bench_model(model_type, n):
-    """A benchmark model with ``n`` elements (the element count is 1 for single-state models)."""
-    return model_from_dict({"model": {"type": model_type, **_case(model_type).table(n)}})
+def cases(models=None):
+    """The (model type, element count) pairs the benchmark runs (default: every registered type)."""
+    return [(model_type, n) for model_type in model_types(models)
+            for n in element_counts(model_type)]
 
 
-def _numpy_reference(model_type, model, path):
-    return _case(model_type).reference(model, path)
+def bench_model(model_type, n=1):
+    """The model a type is benchmarked as: ``example(elements=n)`` with elements, else
+    ``example()``."""
+    cls = model_class(model_type, "for the benchmark")
+    return cls.example(elements=n) if cls.has_elements else cls.example()
 
 
 def _best_time(function, repeats):
@@ -177,10 +108,11 @@ def run_case(model_type, n, kernel_seconds=0.3, numpy_seconds=1.0, repeats=3):
     """Time one model at ``n`` elements; returns a :class:`BenchRow`.
 
     Both sides are sized from a probe run to take about ``kernel_seconds``
-    and ``numpy_seconds``; the kernel is timed best of ``repeats``.
+    and ``numpy_seconds``; the kernel is timed best of ``repeats``.  Without a
+    NumPy loop for the model, the row's NumPy rate and difference are None.
     """
     model = bench_model(model_type, n)
-    elements = n if _case(model_type).elements else 1
+    elements = n if type(model).has_elements else 1
     probe = bench_path(20_000)
     model._advance(bench_path(64), model.initial_state(), None)     # compile / load cache
     probe_time, _ = _best_time(lambda: model._advance(probe, model.initial_state(), None), 1)
@@ -188,32 +120,32 @@ def run_case(model_type, n, kernel_seconds=0.3, numpy_seconds=1.0, repeats=3):
     path = bench_path(steps)
     kernel_time, _ = _best_time(
         lambda: model._advance(path, model.initial_state(), None), repeats)
+    row = BenchRow(model_type, elements, steps, steps * elements / kernel_time)
+    reference = numpy_reference(model)
+    if reference is None:
+        return row
     probe_numpy = bench_path(100)
-    numpy_probe_time, _ = _best_time(lambda: _numpy_reference(model_type, model, probe_numpy), 1)
+    numpy_probe_time, _ = _best_time(lambda: reference(probe_numpy), 1)
     numpy_steps = _steps_for(numpy_seconds, 100, numpy_probe_time, 200, steps)
     short = bench_path(numpy_steps)
-    numpy_time, numpy_force = _best_time(lambda: _numpy_reference(model_type, model, short), 1)
-    reference = model._advance(short, model.initial_state(), None)
+    numpy_time, numpy_force = _best_time(lambda: reference(short), 1)
+    kernel_force = model._advance(short, model.initial_state(), None)
     scale = max(np.max(np.abs(numpy_force)), 1e-300)
-    difference = float(np.max(np.abs(reference - numpy_force)) / scale)
-    return BenchRow(model_type, elements, steps, steps * elements / kernel_time,
-                    numpy_steps * elements / numpy_time, difference)
+    row.numpy_rate = numpy_steps * elements / numpy_time
+    row.max_difference = float(np.max(np.abs(kernel_force - numpy_force)) / scale)
+    return row
 
 
-def cases(models=None):
-    """The (model type, element count) pairs the benchmark runs (default: every case)."""
-    chosen = models or list(CASES)
-    out = []
-    for model_type in chosen:
-        counts = ELEMENT_COUNTS if _case(model_type).elements else (1,)
-        out.extend((model_type, n) for n in counts)
-    return out
+def _cell(value, spec, width):
+    return f"{MISSING:>{width}}" if value is None else f"{value:>{width}{spec}}"
 
 
 def format_table(rows):
+    """The rows as the table ``polind bench`` prints, under its header line."""
     lines = [f"{'model':<14}{'elements':>9}{'steps':>11}{'numba el-steps/s':>19}"
              f"{'NumPy el-steps/s':>19}{'ratio':>9}{'max rel diff':>14}"]
     for r in rows:
         lines.append(f"{r.model:<14}{r.elements:>9}{r.steps:>11}{r.kernel_rate:>19.3e}"
-                     f"{r.numpy_rate:>19.3e}{r.ratio:>9.0f}{r.max_difference:>14.1e}")
+                     f"{_cell(r.numpy_rate, '.3e', 19)}{_cell(r.ratio, '.0f', 9)}"
+                     f"{_cell(r.max_difference, '.1e', 14)}")
     return "\n".join(lines)

@@ -10,6 +10,10 @@ between runs; a ratio of two timings taken in the same run, interleaved,
 varies much less.  Each row times two things round-robin (one after the
 other, ``rounds`` times, after a warm-up call of each that also compiles or
 loads numba's cache) and keeps the best time of each.
+
+The models are the representative ones (``example()``, at the element counts
+the rows name); the bare Maxwell-slip and GMS loops are written without a
+viscous term, so those rows run their example with ``viscous_coefficient = 0``.
 """
 
 from __future__ import annotations
@@ -19,9 +23,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from polind.bench.harness import bench_model, bench_path
+from polind.bench.harness import bench_path
 from polind.bench.references import bare_call, bare_lugre, bare_maxwell_slip, plain_gms
-from polind.models import model_from_dict
+from polind.models import GMS, LuGre, MaxwellSlip, PolInd
 from polind.models.base import STATE_OFFSET, TABLE_OFFSET, page_placed
 
 
@@ -108,8 +112,12 @@ def _simulate_ratio(model, reference, samples, rounds):
 
 
 def maxwell_slip_simulate_ratio(n, samples, rounds=5):
-    """A bare Maxwell-slip loop over ``simulate`` on ``n`` elements: ``(ratio, detail)``."""
-    model = bench_model("maxwell-slip", n)
+    """A bare Maxwell-slip loop over ``simulate`` on ``n`` elements: ``(ratio, detail)``.
+
+    The model is the example at ``n`` elements without its viscous term (the
+    bare loop has none).
+    """
+    model = MaxwellSlip.example(elements=n).with_params(viscous_coefficient=0.0)
     p = model.params
     # Placed in their pages as simulate's arrays are (page_placed): else the bare loop
     # runs up to 1.5 times slower, or 1.8 times, as NumPy happens to place them.
@@ -126,7 +134,7 @@ def maxwell_slip_simulate_ratio(n, samples, rounds=5):
 
 def lugre_simulate_ratio(samples=1_000_000, rounds=5):
     """LuGre's bare exact-exponential loop over ``simulate``: ``(ratio, detail)``."""
-    model = bench_model("lugre", 1)
+    model = LuGre.example()
     p = model.params
     if p["stribeck_exponent"] != 2.0 or p["stribeck_shape"] != "exponential":
         raise ValueError("bare_lugre is written for the exponential Stribeck curve, exponent 2")
@@ -175,11 +183,10 @@ def varying_load_ratios(samples=100_000, calls=10_000, body_steps=3_000, rounds=
     (:ref:`guide-pol-ind-varying-load`).
     Returns ``{"simulate" | "Stepper" | "Body": (ratio, detail)}``.
     """
-    from polind.models.pol_ind import default_table
     from polind.simulate import simulate
     from polind.stepper import Body, Stepper
 
-    model = model_from_dict({"model": default_table()})
+    model = PolInd.example()
     out = {}
 
     def load_at(t):
@@ -239,16 +246,17 @@ def run_ratios(progress=None):
         if progress is not None:
             progress(rows[-1])
 
-    for label, model_type, n, target in (("LuGre", "lugre", 1, 5.0),
-                                         ("GMS, 64 elements", "gms", 64, 8.0)):
-        add(f"Stepper.advance / bare numba call: {label}",
-            stepper_call_ratio(bench_model(model_type, n)), target, True)
+    for label, model, target in (("LuGre", LuGre.example(), 5.0),
+                                 ("GMS, 64 elements", GMS.example(elements=64), 8.0)):
+        add(f"Stepper.advance / bare numba call: {label}", stepper_call_ratio(model), target,
+            True)
     add("bare loop / simulate: Maxwell-slip, 64 elements",
         maxwell_slip_simulate_ratio(64, 1_000_000), 0.7, False)
     add("bare loop / simulate: Maxwell-slip, 1024 elements",
         maxwell_slip_simulate_ratio(1024, 200_000), 1.0, False)
     add("bare loop / simulate: LuGre", lugre_simulate_ratio(), 1.0, False)
-    gms, pol_ind = bench_model("gms", 1024), bench_model("pol-ind", 1024)
+    gms = GMS.example(elements=1024).with_params(viscous_coefficient=0.0)
+    pol_ind = PolInd.example(elements=1024)
     add("plain math.exp loop / simulate: GMS, 1024 elements",
         gms_simulate_ratio(gms, gms.params), 5.0, False)
     add("plain math.exp loop / simulate: Pol-Ind, 1024 elements",

@@ -25,17 +25,26 @@ from polind.models.static import stribeck_curve
 
 # --- plain NumPy loops (step loop in Python, elements vectorised) -------------------------
 
-def numpy_maxwell_slip(path, stiffness, breakaway):
+def _with_viscous(out, sigma2, path):
+    """``out + sigma2 v`` at each sample's velocity (the kernels' viscous term)."""
+    out += sigma2 * path.sample_velocity
+    return out
+
+
+def numpy_maxwell_slip(path, stiffness, breakaway, sigma2=0.0):
+    """Maxwell-slip (:ref:`guide-maxwell-slip`): ``F_i <- clip(F_i + k_i dx, -W_i, W_i)``."""
     force = np.zeros_like(stiffness)
     out = np.empty(path.t.shape[0])
     out[0] = 0.0
     for k in range(1, path.t.shape[0]):
         force = np.clip(force + stiffness * path.displacement[k], -breakaway, breakaway)
         out[k] = force.sum()
-    return out
+    return _with_viscous(out, sigma2, path)
 
 
-def numpy_gms(path, stiffness, weight, attraction, fc, fs, vs, delta):
+def numpy_gms(path, stiffness, weight, attraction, fc, fs, vs, delta, sigma2=0.0):
+    """GMS (:ref:`guide-gms`): a stuck element follows ``k_i dx``, a slipping one relaxes
+    exactly towards ``sgn(v) alpha_i g(v)``."""
     force = np.zeros_like(stiffness)
     slip = np.zeros_like(stiffness)
     out = np.empty(path.t.shape[0])
@@ -56,10 +65,11 @@ def numpy_gms(path, stiffness, weight, attraction, fc, fs, vs, delta):
         force = np.where(slipping, relaxed, np.where(crosses, target, trial))
         slip = np.where(slipping | crosses, direction, 0.0)
         out[k] = force.sum()
-    return out
+    return _with_viscous(out, sigma2, path)
 
 
-def numpy_lugre(path, sigma0, sigma1, fc, fs, vs, delta):
+def numpy_lugre(path, sigma0, sigma1, fc, fs, vs, delta, sigma2=0.0):
+    """LuGre (:ref:`guide-lugre`) with the exact exponential step of its state ``z``."""
     z = 0.0
     out = np.empty(path.t.shape[0])
     for k in range(path.t.shape[0]):
@@ -71,10 +81,11 @@ def numpy_lugre(path, sigma0, sigma1, fc, fs, vs, delta):
         v = path.sample_velocity[k]
         g = stribeck_curve(v, fc, fs, vs, delta)
         out[k] = sigma0 * z + sigma1 * (v - sigma0 * abs(v) * z / g)
-    return out
+    return _with_viscous(out, sigma2, path)
 
 
 def numpy_dahl(path, sigma0, fc):
+    """Dahl (:ref:`guide-dahl`) with exponent 1: exact exponential approach to ``sgn(dx) Fc``."""
     force = 0.0
     out = np.empty(path.t.shape[0])
     out[0] = 0.0
@@ -87,7 +98,7 @@ def numpy_dahl(path, sigma0, fc):
     return out
 
 
-def numpy_leuven(path, stiffness, breakaway, exponent, sigma1, fc, fs, vs, delta):
+def numpy_leuven(path, stiffness, breakaway, exponent, sigma1, fc, fs, vs, delta, sigma2=0.0):
     """Backward Euler on the Leuven state equation (:ref:`guide-leuven`), brentq per step."""
     from scipy.optimize import brentq
 
@@ -109,15 +120,76 @@ def numpy_leuven(path, stiffness, breakaway, exponent, sigma1, fc, fs, vs, delta
             dz = brentq(residual, -reach, reach, xtol=1e-300, rtol=1e-15)
         force = np.clip(force + stiffness * dz, -breakaway, breakaway)
         out[k] = force.sum() + sigma1 * dz / h
-    return out
+    return _with_viscous(out, sigma2, path)
 
 
 def numpy_stribeck(path, fc, fs, vs, delta, sigma2):
+    """The Stribeck curve (:ref:`guide-stribeck-curve`) and viscous friction at each sample."""
     out = np.empty(path.t.shape[0])
     for k in range(path.t.shape[0]):
         v = path.sample_velocity[k]
         out[k] = np.sign(v) * stribeck_curve(v, fc, fs, vs, delta) + sigma2 * v
     return out
+
+
+# --- which loop is a model's reference ---------------------------------------------------
+
+def _curve(p):
+    return [p[key] for key in ("coulomb_force", "static_force", "stribeck_velocity",
+                               "stribeck_exponent")]
+
+
+def _gms_loop(p):
+    stiffness, weight = np.array(p["stiffness"]), np.array(p["weight"])
+    return lambda path: numpy_gms(path, stiffness, weight, p["attraction"], *_curve(p),
+                                  sigma2=p["viscous_coefficient"])
+
+
+def _maxwell_slip_loop(p):
+    stiffness, breakaway = np.array(p["stiffness"]), np.array(p["breakaway_force"])
+    return lambda path: numpy_maxwell_slip(path, stiffness, breakaway, p["viscous_coefficient"])
+
+
+def _leuven_loop(p):
+    stiffness, breakaway = np.array(p["stiffness"]), np.array(p["breakaway_force"])
+    return lambda path: numpy_leuven(path, stiffness, breakaway, p["exponent"],
+                                     p["bristle_damping"], *_curve(p),
+                                     sigma2=p["viscous_coefficient"])
+
+
+def _lugre_loop(p):
+    return lambda path: numpy_lugre(path, p["bristle_stiffness"], p["bristle_damping"],
+                                    *_curve(p), sigma2=p["viscous_coefficient"])
+
+
+def _dahl_loop(p):
+    return lambda path: numpy_dahl(path, p["stiffness"], p["coulomb_force"])
+
+
+def _stribeck_loop(p):
+    return lambda path: numpy_stribeck(path, *_curve(p), p["viscous_coefficient"])
+
+
+#: The plain NumPy loop of each model type, as ``prepare(model) -> reference(path) ->
+#: forces`` (``prepare`` reads the parameters once, outside the timing).  At its constant
+#: load Pol-Ind is the GMS of its element table (:ref:`guide-pol-ind-law`), so its loop is
+#: GMS's on its equivalent GMS parameters.
+NUMPY_REFERENCES = {
+    "maxwell-slip": lambda model: _maxwell_slip_loop(model.params),
+    "gms": lambda model: _gms_loop(model.params),
+    "pol-ind": lambda model: _gms_loop(model.equivalent_gms().params),
+    "leuven": lambda model: _leuven_loop(model.params),
+    "lugre": lambda model: _lugre_loop(model.params),
+    "dahl": lambda model: _dahl_loop(model.params),
+    "stribeck": lambda model: _stribeck_loop(model.params),
+}
+
+
+def numpy_reference(model):
+    """The plain NumPy loop of ``model``, ready to run (``reference(path)`` gives the forces
+    at the path's samples), or None if :data:`NUMPY_REFERENCES` has none for its type."""
+    prepare = NUMPY_REFERENCES.get(model.type)
+    return None if prepare is None else prepare(model)
 
 
 # --- bare numba loops, compiled with the kernels' own numba options (polind.kernels.jit) ---

@@ -15,6 +15,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from polind.models import PolInd
+
 
 # --- the separation solve -----------------------------------------------------------------
 
@@ -35,10 +37,8 @@ def run_separation(asperities=1_000_000, normal_load=100.0, seed=0):
     best of three fresh surfaces.
     """
     from polind.contact import DirectSurface, effective_moduli, solve_separation
-    from polind.models.pol_ind import default_table
 
-    table = default_table()
-    surface_params = table["surface"]
+    surface_params = PolInd.example_parameters()["surface"]
     e_star, g_star = effective_moduli(210e9, 0.3, 210e9, 0.3)
     density = asperities / surface_params["nominal_area"]
     build = solve = np.inf
@@ -105,9 +105,7 @@ def run_topography(size=4096, normal_load=1.0):
     """
     import tempfile
 
-    from polind.models.pol_ind import default_table
     from polind.topography import load_measured_surface
-    from polind.models import model_from_dict
 
     with tempfile.TemporaryDirectory() as folder:
         path = os.path.join(folder, "map.npy")
@@ -115,9 +113,9 @@ def run_topography(size=4096, normal_load=1.0):
         start = time.perf_counter()
         measured = load_measured_surface(path, pixel_size=(MAP_PIXEL, MAP_PIXEL))
         middle = time.perf_counter()
-        table = default_table()
-        table.update(normal_load=normal_load, discretisation={},
-                     surface={"topography": path, "pixel_size": [MAP_PIXEL, MAP_PIXEL]})
-        elements = len(model_from_dict({"model": table}).element_table())
+        params = PolInd.example_parameters()
+        params.update(normal_load=normal_load, discretisation={},
+                      surface={"topography": path, "pixel_size": [MAP_PIXEL, MAP_PIXEL]})
+        elements = len(PolInd(**params).element_table())
         end = time.perf_counter()
     return TopographyRow(size, measured.summits, middle - start, end - middle, elements)
