@@ -18,7 +18,7 @@ from numba import njit
 import polind
 from polind.bench import harness
 from polind.bench.references import NUMPY_REFERENCES, numpy_reference
-from polind.cli import _run
+from polind.cli import main
 from polind.models import MODEL_TYPES
 
 
@@ -98,7 +98,9 @@ def test_bench_accepts_any_registered_type(registered, monkeypatch, capsys):
         return harness.BenchRow(model_type, n, 100, 1e8)
 
     monkeypatch.setattr(harness, "run_case", run_case)
-    assert _run(["bench", "--model", Relax.type]) == 0
+    with pytest.raises(SystemExit) as done:
+        main(["bench", "--model", Relax.type])
+    assert done.value.code == 0
     out = capsys.readouterr().out
     assert timed == [(Relax.type, 1)]
     last = out.splitlines()[-1].split()
