@@ -38,10 +38,11 @@ from pathlib import Path
 
 import numpy as np
 
-from polind.bench import (BIG_FILE_MODEL as MODEL_TOML, BIG_FILE_TARGET_PEAK_BYTES as
-                          TARGET_PEAK_BYTES, BIG_FILE_TARGET_SECONDS as TARGET_SECONDS,
-                          big_motion as motion, polind_command, run_measured,
-                          write_big_motion_csv as write_motion_csv)
+from polind.bench.big_files import (BIG_FILE_MODEL as MODEL_TOML,
+                                    BIG_FILE_TARGET_PEAK_BYTES as TARGET_PEAK_BYTES,
+                                    BIG_FILE_TARGET_SECONDS as TARGET_SECONDS,
+                                    big_motion as motion, polind_command, run_measured,
+                                    write_big_motion_csv as write_motion_csv)
 
 # The same model scaling with a normal-load signal (for the normal_load case of simulate).
 MODEL_WITH_LOAD = {"model": {"type": "maxwell-slip", "stiffness": [1e5, 5e4, 2e4, 1e4],

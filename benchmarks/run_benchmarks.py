@@ -5,7 +5,7 @@
 Reports element-steps per second of each model's numba kernel and of a plain
 NumPy loop doing the same work in the same run, and their ratio.  Then (unless
 ``--no-ratios`` or model types are named) the ratio rows of
-``polind.bench.run_ratios``: ``Stepper.advance`` against a bare numba call,
+``polind.bench.ratios.run_ratios``: ``Stepper.advance`` against a bare numba call,
 ``simulate`` end to end against bare numba loops, and the Pol-Ind model under
 a varying against a constant normal load, each against its target;
 ``--ratios`` runs those rows only.  Run it on an otherwise idle machine; numba
@@ -19,7 +19,7 @@ import json
 import sys
 from dataclasses import asdict
 
-from polind import bench
+from polind.bench import harness, ratios as ratio_rows
 
 
 def main(argv=None):
@@ -32,15 +32,15 @@ def main(argv=None):
     args = parser.parse_args(argv)
     rows = []
     if not args.ratios:
-        print(bench.format_table([]), flush=True)
-        for model_type, n in bench.cases(args.models or None):
-            rows.append(bench.run_case(model_type, n))
-            print(bench.format_table(rows[-1:]).splitlines()[-1], flush=True)
+        print(harness.format_table([]), flush=True)
+        for model_type, n in harness.cases(args.models or None):
+            rows.append(harness.run_case(model_type, n))
+            print(harness.format_table(rows[-1:]).splitlines()[-1], flush=True)
     ratios = []
     if args.ratios or not (args.no_ratios or args.models):
-        print("\n" + bench.format_ratios([]), flush=True)
-        ratios = bench.run_ratios(
-            progress=lambda row: print(bench.format_ratios([row]).splitlines()[-1], flush=True))
+        print("\n" + ratio_rows.format_ratios([]), flush=True)
+        ratios = ratio_rows.run_ratios(progress=lambda row: print(
+            ratio_rows.format_ratios([row]).splitlines()[-1], flush=True))
     if args.json:
         with open(args.json, "w") as handle:
             json.dump({"rows": [asdict(r) | {"ratio": r.ratio} for r in rows],

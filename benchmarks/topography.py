@@ -29,8 +29,8 @@ from pathlib import Path
 
 import numpy as np
 
-from polind.bench import MAP_PIXEL as PIXEL
-from polind.bench import random_height_map as make_map
+from polind.bench.surfaces import MAP_PIXEL as PIXEL
+from polind.bench.surfaces import random_height_map as make_map
 
 
 def best_of(function, repeat=3):

@@ -12,7 +12,8 @@ import tomli_w
 
 import polind
 from conftest import LUGRE_1995
-from polind import bench, cli
+from polind import cli
+from polind.bench import harness, surfaces
 from polind.models.pol_ind import default_table
 
 try:
@@ -203,12 +204,12 @@ def test_bench_rejects_an_unknown_model(capsys):
 
 
 def test_bench_cases_cover_the_element_counts_and_do_the_same_work():
-    cases = bench.cases()
+    cases = harness.cases()
     assert ("maxwell-slip", 1024) in cases and ("gms", 64) in cases and ("pol-ind", 1024) in cases
-    row = bench.run_case("pol-ind", 64, kernel_seconds=0.01, numpy_seconds=0.02, repeats=1)
+    row = harness.run_case("pol-ind", 64, kernel_seconds=0.01, numpy_seconds=0.02, repeats=1)
     assert row.elements == 64 and row.kernel_rate > 0 and row.numpy_rate > 0
     assert row.max_difference < 1e-12          # the NumPy loop computes the same forces
-    separation = bench.run_separation(asperities=20_000)
+    separation = surfaces.run_separation(asperities=20_000)
     assert separation.relative_residual <= 1e-10
 
 

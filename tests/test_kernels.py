@@ -6,7 +6,8 @@ import pytest
 from polind.kernels.fastexp import decay_exp_array
 from polind.kernels.stribeck import EXPONENTIAL, RATIONAL
 from polind.models.static import stribeck_curve
-from polind import bench
+from polind.bench import harness
+from polind.bench.references import numpy_reference
 
 
 def test_decay_exp_matches_numpy_within_its_documented_error():
@@ -44,10 +45,10 @@ def test_stribeck_shape_codes_match_the_curve_definitions():
                                            ("dahl", 1), ("stribeck", 1)])
 def test_kernels_agree_with_the_plain_numpy_loops_of_the_benchmark(model_type, n):
     # The benchmark's ratio is only meaningful if both sides do the same work.
-    model = bench.bench_model(model_type, n)
-    path = bench.bench_path(4000 if model_type != "leuven" else 400)
+    model = harness.bench_model(model_type, n)
+    path = harness.bench_path(4000 if model_type != "leuven" else 400)
     kernel = model._advance(path, model.initial_state(), None)
-    reference = bench._numpy_reference(model_type, model, path)
+    reference = numpy_reference(model)(path)
     scale = np.max(np.abs(reference))
     assert scale > 0
     assert np.max(np.abs(kernel - reference)) <= 1e-11 * scale
@@ -83,7 +84,7 @@ def test_compiled_entry_is_the_dispatchers_compiled_function():
 def test_kernel_arrays_are_placed_in_their_pages(model_type, n):
     from polind.models.kernel import SCALARS_OFFSET, STATE_OFFSET, TABLE_OFFSET, page_placed
 
-    kernel = bench.bench_model(model_type, n).step_kernel()
+    kernel = harness.bench_model(model_type, n).step_kernel()
     for values, offset in ((kernel.scalars, SCALARS_OFFSET), (kernel.table, TABLE_OFFSET),
                            (kernel.state, STATE_OFFSET)):
         assert values.size == 0 or values.ctypes.data % 4096 == offset   # (LuGre has no table)

@@ -51,59 +51,58 @@ def demo(out_dir, model_path):
 
 @cli.command()
 @click.option("--model", "models", multiple=True, metavar="TYPE",
-              help="Benchmark only this model type (repeatable). Default: all benchmarked.")
+              help="Benchmark only this model type (repeatable). Default: every registered "
+                   "model.")
 @click.option("--big-files", "big_files", is_flag=True,
               help="Also time `polind simulate` along a 1e7-sample motion CSV (423 MB) end to "
                    "end: a minute or so, and 1.3 GB of temporary files.")
 def bench(models, big_files):
     """The performance benchmark: element-steps per second, numba kernel vs plain NumPy.
 
-    Each model runs at 1, 64 and 1024 elements (the single-state models at
-    one); the same work done by a plain NumPy loop (step loop in Python,
-    elements vectorised) is timed in the same run and the ratio printed.
+    Each registered model runs at 1, 64 and 1024 elements (the single-state
+    models at one); the same work done by a plain NumPy loop (step loop in
+    Python, elements vectorised) is timed in the same run and the ratio
+    printed ("—" for a model without one).  With a model of contact mechanics
+    (Pol-Ind), its separation solve and a measured height map follow.
     Without --model, ratios taken in the same run follow: Stepper against a
     bare numba call, simulate against bare numba loops, Pol-Ind under a
     varying against a constant load.  With --big-files, last: the wall time
     and peak memory of a `polind simulate` process of a 4-element
     Maxwell-slip model along a 1e7-sample motion CSV (targets 8 s, 1 GB).
     """
-    from polind import bench as benchmark
-    from polind.models import MODEL_TYPES
+    from polind.bench import big_files as big, harness, ratios, surfaces
+    from polind.models.registry import model_class
 
-    for model_type in models:
-        if model_type not in MODEL_TYPES:
-            raise InputError(f"Unknown model type '{model_type}' for option '--model'; expected "
-                             f"one of: {', '.join(sorted(MODEL_TYPES))}.")
-        if model_type not in benchmark.CASES:
-            raise InputError(f"The benchmark has no case for '{model_type}' (option "
-                             f"'--model'); expected one of: {', '.join(benchmark.CASES)}.")
-    cases = benchmark.cases(list(models) or None)
+    for model_type in models:       # any registered type (an installed plugin's too)
+        model_class(model_type, "for option '--model'")
+    chosen = harness.model_types(list(models) or None)
+    cases = harness.cases(chosen)
     rows = []
     click.echo("polind bench: one thread, best of 3 timed runs after a warm-up")
-    click.echo(benchmark.format_table([]))
+    click.echo(harness.format_table([]))
     with progress(total=len(cases), description="bench", unit=" cases") as bar:
         for model_type, n in cases:
-            rows.append(benchmark.run_case(model_type, n))
+            rows.append(harness.run_case(model_type, n))
             bar.clear()
-            click.echo(benchmark.format_table(rows[-1:]).splitlines()[-1])
+            click.echo(harness.format_table(rows[-1:]).splitlines()[-1])
             bar.update()
-    if not models or "pol-ind" in models:
-        separation = benchmark.run_separation()
+    if any(model_class(model_type).has_contact for model_type in chosen):
+        separation = surfaces.run_separation()
         click.echo(f"\npol-ind separation solve, {separation.asperities:,} sampled asperities "
                    f"(direct summation): {separation.solve_seconds * 1e3:.2f} ms, "
                    f"{separation.evaluations} load evaluations, |N(d) - N|/N = "
                    f"{separation.relative_residual:.1e} (building the sorted surface: "
                    f"{separation.build_seconds * 1e3:.0f} ms, once per surface)")
-        surface = benchmark.run_topography()
+        surface = surfaces.run_topography()
         click.echo(f"height map {surface.size} x {surface.size} (.npy) read, levelled and "
                    f"reduced to {surface.summits:,} summits: {surface.analyse_seconds:.2f} s "
                    f"(target 10 s); a pol-ind model on it at 1 N ({surface.elements} summits in "
                    f"contact): {surface.model_seconds:.2f} s")
     if not models:
-        click.echo("\n" + benchmark.format_ratios([]))
-        benchmark.run_ratios(progress=lambda row: click.echo(
-            benchmark.format_ratios([row]).splitlines()[-1]))
+        click.echo("\n" + ratios.format_ratios([]))
+        ratios.run_ratios(progress=lambda row: click.echo(
+            ratios.format_ratios([row]).splitlines()[-1]))
     if big_files:
         with progress(description="big files", unit="") as bar:
-            row = benchmark.run_big_files(progress=bar.set_description_str)
-        click.echo("\n" + benchmark.format_big_files(row))
+            row = big.run_big_files(progress=bar.set_description_str)
+        click.echo("\n" + big.format_big_files(row))

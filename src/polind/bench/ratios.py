@@ -1,0 +1,275 @@
+"""The ratio rows of ``polind bench``: two timings taken in the same run, and their ratio.
+
+The figures the user-loop API is held to: :class:`polind.Stepper` against a
+bare Python-to-numba call, :func:`polind.simulation` end to end against the bare
+numba loops of :mod:`polind.bench.references`, and the Pol-Ind model under a
+varying against a constant normal load (:func:`run_ratios`).
+
+The machine the figures are taken on is shared, and absolute rates vary by 2x
+between runs; a ratio of two timings taken in the same run, interleaved,
+varies much less.  Each row times two things round-robin (one after the
+other, ``rounds`` times, after a warm-up call of each that also compiles or
+loads numba's cache) and keeps the best time of each.
+
+The models are the representative ones (``example()``, at the element counts
+the rows name); the bare Maxwell-slip and GMS loops are written without a
+viscous term, so those rows run their example with ``viscous_coefficient = 0``.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from polind.bench.harness import bench_path
+from polind.bench.references import bare_call, bare_lugre, bare_maxwell_slip, plain_gms
+from polind.models import GMS, LuGre, MaxwellSlip, PolInd
+from polind.models.base import STATE_OFFSET, TABLE_OFFSET, page_placed
+
+
+@dataclass
+class RatioRow:
+    name: str            # what is compared with what
+    value: float         # the measured ratio
+    target: float
+    at_most: bool        # the target is an upper bound (a cost) or a lower bound (a speed)
+    detail: str = ""     # the two timings, and how far the two sides' forces agree
+
+    @property
+    def met(self) -> bool:
+        return self.value <= self.target if self.at_most else self.value >= self.target
+
+
+def _interleaved(functions, rounds):
+    """Best time [s] of each function over ``rounds`` round-robin passes, after a warm-up."""
+    for function in functions:
+        function()
+    best = [np.inf] * len(functions)
+    for _ in range(rounds):
+        for i, function in enumerate(functions):
+            start = time.perf_counter()
+            function()
+            best[i] = min(best[i], time.perf_counter() - start)
+    return best
+
+
+def _relative_difference(a, b):
+    return float(np.max(np.abs(a - b)) / max(np.max(np.abs(b)), 1e-300))
+
+
+def stepper_call_ratio(model, calls=20_000, rounds=7):
+    """``Stepper.advance`` per call over a bare Python-to-numba call; ``(ratio, detail)``.
+
+    Both loops run over the same Python lists with the same ``zip`` (the loop's
+    own cost is on both sides): one calls ``advance(t, x=x)`` along the
+    benchmark's sinusoid, the other ``bare_call(x)``.
+    """
+    from polind.stepper import Stepper
+
+    path = bench_path(calls + 1)
+    times, positions = path.t[1:].tolist(), path.x[1:].tolist()
+
+    def bare():
+        call = bare_call
+        for _, x in zip(times, positions):
+            call(x)
+
+    def stepper():
+        advance = Stepper(model).advance
+        for t, x in zip(times, positions):
+            advance(t, x=x)
+
+    bare_time, stepper_time = _interleaved([bare, stepper], rounds)
+    return stepper_time / bare_time, (f"{stepper_time / calls * 1e9:.0f} ns vs "
+                                      f"{bare_time / calls * 1e9:.0f} ns per call")
+
+
+def _simulate_ratio(model, reference, samples, rounds):
+    """``reference_time / simulate_time`` on the benchmark sinusoid; ``(ratio, detail)``.
+
+    ``reference(t, x)`` runs the bare loop and returns its forces, which are
+    compared with ``simulate``'s (from sample 1 on).
+    """
+    from polind.simulation import simulate
+
+    path = bench_path(samples)
+    t, x = path.t, path.x
+    forces = {}
+
+    def run_reference():
+        forces["reference"] = reference(t, x)
+
+    def run_simulate():
+        forces["simulate"] = simulate(model, t, x=x).force
+
+    reference_time, simulate_time = _interleaved([run_reference, run_simulate], rounds)
+    difference = _relative_difference(forces["simulate"][1:], forces["reference"][1:])
+    return reference_time / simulate_time, (
+        f"{reference_time * 1e3:.1f} ms vs {simulate_time * 1e3:.1f} ms on {samples:.0e} "
+        f"samples, forces agree to {difference:.0e}")
+
+
+def maxwell_slip_simulate_ratio(n, samples, rounds=5):
+    """A bare Maxwell-slip loop over ``simulate`` on ``n`` elements: ``(ratio, detail)``.
+
+    The model is the example at ``n`` elements without its viscous term (the
+    bare loop has none).
+    """
+    model = MaxwellSlip.example(elements=n).with_params(viscous_coefficient=0.0)
+    p = model.params
+    # Placed in their pages as simulate's arrays are (page_placed): else the bare loop
+    # runs up to 1.5 times slower, or 1.8 times, as NumPy happens to place them.
+    stiffness = page_placed(p["stiffness"], TABLE_OFFSET)
+    slip = page_placed(np.array(p["breakaway_force"]) / stiffness, TABLE_OFFSET)
+
+    def reference(t, x):
+        out = np.empty(x.shape[0])
+        bare_maxwell_slip(x, stiffness, slip, page_placed(np.zeros(n), STATE_OFFSET), out)
+        return out
+
+    return _simulate_ratio(model, reference, samples, rounds)
+
+
+def lugre_simulate_ratio(samples=1_000_000, rounds=5):
+    """LuGre's bare exact-exponential loop over ``simulate``: ``(ratio, detail)``."""
+    model = LuGre.example()
+    p = model.params
+    if p["stribeck_exponent"] != 2.0 or p["stribeck_shape"] != "exponential":
+        raise ValueError("bare_lugre is written for the exponential Stribeck curve, exponent 2")
+
+    def reference(t, x):
+        out = np.empty(x.shape[0])
+        bare_lugre(t, x, p["bristle_stiffness"], p["bristle_damping"],
+                   p["viscous_coefficient"], p["coulomb_force"], p["static_force"],
+                   p["stribeck_velocity"], out)
+        return out
+
+    return _simulate_ratio(model, reference, samples, rounds)
+
+
+def gms_simulate_ratio(model, gms, samples=50_000, rounds=3):
+    """A plain GMS loop (math.exp per slipping element) over ``simulate``: ``(ratio, detail)``.
+
+    ``gms`` is the model's GMS parameter set: a GMS model's own ``params``, or
+    a Pol-Ind model's ``gms_parameters()`` (at its constant load Pol-Ind *is*
+    GMS with its element table, :ref:`guide-pol-ind-law`).
+    """
+    stiffness = page_placed(gms["stiffness"], TABLE_OFFSET)   # (as maxwell_slip_simulate_ratio)
+    weight = page_placed(gms["weight"], TABLE_OFFSET)
+    if gms["stribeck_shape"] != "exponential" or gms["viscous_coefficient"] != 0.0:
+        raise ValueError("plain_gms is written for the exponential Stribeck curve, no sigma2")
+
+    def reference(t, x):
+        out = np.empty(x.shape[0])
+        plain_gms(t, x, stiffness, weight, gms["attraction"], gms["coulomb_force"],
+                  gms["static_force"], gms["stribeck_velocity"], gms["stribeck_exponent"],
+                  page_placed(np.zeros(stiffness.shape[0]), STATE_OFFSET),
+                  page_placed(np.zeros(stiffness.shape[0]), STATE_OFFSET + 1024), out)
+        return out
+
+    return _simulate_ratio(model, reference, samples, rounds)
+
+
+def varying_load_ratios(samples=100_000, calls=10_000, body_steps=3_000, rounds=3):
+    """The default Pol-Ind model under ``100 N (0.75 + 0.25 sin)`` vs its constant 100 N.
+
+    Per-sample cost ratio (varying / constant) in ``simulate`` (the benchmark
+    sinusoid), :class:`polind.Stepper` (the same motion, sample by sample) and
+    :class:`polind.Body` (pushed by ``20 N sin(2 pi 2 t)`` at 1 kHz: it sticks
+    and slips).  The load changes at every sample, so every sample re-solves
+    the separation and re-evaluates the element table
+    (:ref:`guide-pol-ind-varying-load`).
+    Returns ``{"simulate" | "Stepper" | "Body": (ratio, detail)}``.
+    """
+    from polind.simulation import simulate
+    from polind.stepper import Body, Stepper
+
+    model = PolInd.example()
+    out = {}
+
+    def load_at(t):
+        return 100.0 * (0.75 + 0.25 * np.sin(2.0 * np.pi * 5.0 * t))
+
+    path = bench_path(samples)
+    loads = load_at(path.t)
+    constant, varying = _interleaved(
+        [lambda: simulate(model, path.t, x=path.x),
+         lambda: simulate(model, path.t, x=path.x, normal_load=loads)], rounds)
+    out["simulate"] = (varying / constant, f"{varying / samples * 1e9:.0f} ns vs "
+                                           f"{constant / samples * 1e9:.0f} ns per sample")
+
+    times, positions = path.t[1:calls + 1].tolist(), path.x[1:calls + 1].tolist()
+    step_loads = loads[1:calls + 1].tolist()
+
+    def stepper_constant():
+        advance = Stepper(model).advance
+        for t, x, _ in zip(times, positions, step_loads):
+            advance(t, x=x)
+
+    def stepper_varying():
+        advance = Stepper(model).advance
+        for t, x, load in zip(times, positions, step_loads):
+            advance(t, x=x, normal_load=load)
+
+    constant, varying = _interleaved([stepper_constant, stepper_varying], rounds)
+    out["Stepper"] = (varying / constant, f"{varying / calls * 1e9:.0f} ns vs "
+                                          f"{constant / calls * 1e9:.0f} ns per call")
+
+    body_times = np.arange(1, body_steps + 1) * 1e-3
+    pushes = (20.0 * np.sin(2.0 * np.pi * 2.0 * body_times)).tolist()
+    body_loads = load_at(body_times).tolist()
+
+    def body_constant():
+        step = Body(model, time_step=1e-3).step
+        for push, _ in zip(pushes, body_loads):
+            step(push)
+
+    def body_varying():
+        step = Body(model, time_step=1e-3).step
+        for push, load in zip(pushes, body_loads):
+            step(push, normal_load=load)
+
+    constant, varying = _interleaved([body_constant, body_varying], rounds)
+    out["Body"] = (varying / constant, f"{varying / body_steps * 1e6:.1f} µs vs "
+                                       f"{constant / body_steps * 1e6:.1f} µs per step")
+    return out
+
+
+def run_ratios(progress=None):
+    """Every ratio row (about half a minute); ``progress(row)`` is called after each."""
+    rows = []
+
+    def add(name, result, target, at_most):
+        rows.append(RatioRow(name, result[0], target, at_most, result[1]))
+        if progress is not None:
+            progress(rows[-1])
+
+    for label, model, target in (("LuGre", LuGre.example(), 5.0),
+                                 ("GMS, 64 elements", GMS.example(elements=64), 8.0)):
+        add(f"Stepper.advance / bare numba call: {label}", stepper_call_ratio(model), target,
+            True)
+    add("bare loop / simulate: Maxwell-slip, 64 elements",
+        maxwell_slip_simulate_ratio(64, 1_000_000), 0.7, False)
+    add("bare loop / simulate: Maxwell-slip, 1024 elements",
+        maxwell_slip_simulate_ratio(1024, 200_000), 1.0, False)
+    add("bare loop / simulate: LuGre", lugre_simulate_ratio(), 1.0, False)
+    gms = GMS.example(elements=1024).with_params(viscous_coefficient=0.0)
+    pol_ind = PolInd.example(elements=1024)
+    add("plain math.exp loop / simulate: GMS, 1024 elements",
+        gms_simulate_ratio(gms, gms.params), 5.0, False)
+    add("plain math.exp loop / simulate: Pol-Ind, 1024 elements",
+        gms_simulate_ratio(pol_ind, pol_ind.gms_parameters()), 5.0, False)
+    for where, result in varying_load_ratios().items():
+        add(f"varying / constant load: Pol-Ind (64) in {where}", result, 2.0, True)
+    return rows
+
+
+def format_ratios(rows):
+    lines = [f"{'ratio (same run)':<58}{'measured':>9}{'target':>10}{'':>6}  detail"]
+    for r in rows:
+        target = f"{'<=' if r.at_most else '>='} {r.target:g}"
+        lines.append(f"{r.name:<58}{r.value:>9.3g}{target:>10}{'met' if r.met else 'NOT':>6}"
+                     f"  {r.detail}")
+    return "\n".join(lines)
