@@ -454,7 +454,7 @@ def test_parameter_blocks_are_model_files(demo_run, tmp_path):
     page = (out / "report.html").read_text(encoding="utf-8")
     blocks = [html.unescape(text) for text in
               re.findall(r'<pre class="model-file">(.*?)</pre>', page, flags=re.S)]
-    models = demo_models()
+    models = {label: model for label, (model, _) in demo_models().items()}
     assert len(blocks) == len(models) == len(LABELS)
     for (label, model), block in zip(models.items(), blocks):
         document = tomllib.loads(block)
