@@ -35,7 +35,7 @@ LAYERS = (
     ("identification", "comparison"),
     ("control", "stepper", "dynamics", "simulate"),
     ("models",),
-    ("io",),
+    ("io", "datasets"),
     ("contact", "topography"),
     ("kernels",),
     ("validation", "errors", "resources"),
