@@ -22,6 +22,9 @@ cannot drift from what polind reads and writes):
     (``polind.identification.DEFAULT_RANGES``).
 ``.. polind-model-types::``
     The registered model types with their classes.
+``.. polind-data-licence:: FILE``
+    The text of a licence file of the data polind installs
+    (``polind.datasets.data_folder() / FILE``), as a literal block.
 
 Besides: the API pages of the public names (``write_api_pages``, called from
 ``conf.py`` before the sources are read, so autosummary sees them), the
@@ -392,6 +395,7 @@ SUBPACKAGES = (
     ("polind.topography", "Measured surfaces"),
     ("polind.control", "python-control systems"),
     ("polind.sweeps", "Parameter sweeps"),
+    ("polind.datasets", "Measured data shipped with polind"),
 )
 
 # Modules documented whole (every public function, class and documented constant), for
@@ -422,6 +426,28 @@ MODULES = (
                           "polind.kernels.separation",
                           "polind.kernels.special", "polind.kernels.fastexp")),
 )
+
+
+class DataLicence(SphinxDirective):
+    """A licence file of the shipped data (:mod:`polind.datasets`), as a literal block.
+
+    Read from the polind being documented, so the page shows the licence installed
+    beside the data, wherever the documentation sources are copied.
+    """
+
+    required_arguments = 1
+
+    def run(self):
+        from polind import datasets
+
+        path = datasets.data_folder() / self.arguments[0]
+        if not path.is_file():
+            raise self.error(f"polind-data-licence: no file {path}")
+        self.env.note_dependency(str(path))
+        text = path.read_text(encoding="utf-8").rstrip()
+        block = nodes.literal_block(text, text)
+        block["language"] = "text"
+        return [block]
 
 
 def _autosummary(names, module):
@@ -607,5 +633,6 @@ def setup(app):
     app.add_directive("polind-default-bounds", DefaultBounds)
     app.add_directive("polind-model-types", ModelTypes)
     app.add_directive("polind-default-model", DefaultModel)
+    app.add_directive("polind-data-licence", DataLicence)
     app.connect("build-finished", copy_mathjax)
     return {"version": "1", "parallel_read_safe": True, "parallel_write_safe": True}
