@@ -7,8 +7,8 @@ statistical model of the same surface::
     python examples/measured_surface.py [OUT_DIR] [--map FILE] [--load N]
 
 1. ``polind.topography.load_measured_surface`` reads the map (by default
-   ``x3p-2.x3p`` of the shared data, an ISO 25178-72 file that
-   SurfaceTopography reads with its units), levels it and finds its summits
+   ``x3p-2.x3p``, installed with polind: ``polind.datasets.height_map_path``;
+   an ISO 25178-72 file that SurfaceTopography reads with its units), levels it and finds its summits
    and their radii (the user guide, "Measured surfaces").
 2. A Pol-Ind model takes the map as its surface (``[model.surface]
    topography = "..."``): direct summation over the measured summits, each
@@ -36,20 +36,15 @@ from __future__ import annotations
 
 import argparse
 import os
-from pathlib import Path
 
 import numpy as np
 
 import polind
-from polind import phenomena
+from polind import datasets, phenomena
 from polind.models.pol_ind import default_table
 from polind.topography import load_measured_surface
 
-# sphinx-gallery runs the script without __file__, from the script's own directory.
-HERE = Path(globals().get("__file__", "measured_surface.py")).resolve().parent
-_MAPS = [HERE.parents[1] / "shared" / "data" / "topography" / "x3p-2.x3p",
-         Path("/work/shared/data/topography/x3p-2.x3p")]
-DEFAULT_MAP = next((path for path in _MAPS if path.is_file()), _MAPS[0])
+DEFAULT_MAP = datasets.height_map_path("x3p-2.x3p")
 
 
 def map_model(path, normal_load) -> polind.FrictionModel:

@@ -6,22 +6,24 @@ of a measured reciprocating-tribometer record and judge them on the second half.
 
 Run::
 
-    python examples/tribometer_fit.py [--out DIR] [--step N] [--data FILE] [--holdout F]
+    python examples/tribometer_fit.py [--out DIR] [--step N] [--holdout F]
 
-The record (``/work/shared/data/tribometer_reciprocating.tsv``, see its
-README) is a ball-on-flat reciprocating test: strokes of about 0.24 mm at
+The record (:func:`polind.datasets.tribometer`, installed with polind) is a
+ball-on-flat reciprocating test: strokes of about 0.24 mm at
 about 0.25 mm/s with a dwell of about 1 s at each end, under a normal load
 of about 5 N.  What this script does with it:
 
-1. **Units and sign.**  Normal load and friction are in µN, position in mm:
-   converted to N and m.  The instrument's friction sign is flipped
-   (``F = -Friction``) so that friction resists positive motion, and the
-   first position is subtracted.
-2. **Unloaded samples dropped.**  The contact is loaded a few seconds after
-   the record starts and unloaded before it ends: only the samples from the
+1. **Units and sign.**  The raw file (:func:`polind.datasets.tribometer_path`)
+   gives normal load and friction in µN, position in mm;
+   :func:`polind.datasets.tribometer` converts them to N and m, flips the
+   instrument's friction sign (``F = -Friction``) so that friction resists
+   positive motion, and keeps the loaded part (6.8 s to 210.8 s, the normal
+   load above half its median), its first position subtracted.
+2. **Load ramps dropped.**  The contact is loaded a few seconds after the
+   record starts and unloaded before it ends: only the samples from the
    first to the last with a normal load of at least 90 % of the median are
-   kept (the contact is at rest there, as every model's initial state
-   assumes).
+   kept (about 7.6 s to 210 s; the contact is at rest there, as every
+   model's initial state assumes).
 3. **Decimated.**  Every ``N``-th sample is kept (default 4: 20 ms instead
    of 5 ms, 10,121 samples); the presliding rise after a reversal, the
    shortest feature, keeps about 20 samples.
@@ -76,34 +78,24 @@ import numpy as np
 
 import polind
 import polind.models.pol_ind
-from polind import io
+from polind import datasets, io
 from polind.identification import identify_gms, identify_maxwell_slip
 
-DATA = Path("/work/shared/data/tribometer_reciprocating.tsv")
-COLUMNS = ("Time [s]", "Normal [uN]", "Position [mm]", "Friction [uN]")
 LOADED_FRACTION = 0.9       # keep samples loaded to at least this share of the median load
 
 
-def read_record(path: Path, step: int) -> dict:
-    """The loaded, decimated record in SI units: ``t``, ``x``, ``F``, ``normal_load``."""
-    with open(path, encoding="utf-8") as stream:
-        header = [name.strip() for name in stream.readline().split("\t")]
-    if tuple(header) != COLUMNS:
-        raise SystemExit(f"{path}: expected the columns {COLUMNS}, got {tuple(header)}")
-    time_s, normal_un, position_mm, friction_un = np.loadtxt(path, delimiter="\t",
-                                                             skiprows=1, unpack=True)
-    normal = normal_un * 1e-6                       # uN -> N
-    force = -friction_un * 1e-6                     # uN -> N, resisting positive motion
-    position = (position_mm - position_mm[0]) * 1e-3   # mm -> m, from the first sample
+def read_record(step: int) -> dict:
+    """The fully loaded, decimated record in SI units: ``t``, ``x``, ``F``, ``normal_load``."""
+    record = datasets.tribometer()          # s, m, N, N; friction resisting positive motion
+    time_s, normal = record["t"], record["normal_load"]
     loaded = np.flatnonzero(normal >= LOADED_FRACTION * np.median(normal))
     first, last = loaded[0], loaded[-1]
     keep = slice(first, last + 1, step)
-    print(f"record: {time_s.size} samples over {time_s[-1] - time_s[0]:.1f} s; loaded from "
-          f"{time_s[first]:.3f} s to {time_s[last]:.3f} s (normal load >= "
+    print(f"record: {time_s.size} samples from {time_s[0]:.3f} s to {time_s[-1]:.3f} s; "
+          f"loaded from {time_s[first]:.3f} s to {time_s[last]:.3f} s (normal load >= "
           f"{LOADED_FRACTION:.0%} of the median {np.median(normal):.3f} N); keeping 1 sample "
           f"in {step}: {time_s[keep].size} samples")
-    return {"t": time_s[keep], "x": position[keep], "F": force[keep],
-            "normal_load": normal[keep]}
+    return {key: value[keep] for key, value in record.items()}
 
 
 def pol_ind_start(data: dict, sliding_force: float, stroke: float):
@@ -125,7 +117,6 @@ def main(argv=None) -> None:
     parser.add_argument("--out", type=Path, default=Path("tribometer-fit"),
                         help="output directory (default: tribometer-fit)")
     parser.add_argument("--step", type=int, default=4, help="keep every N-th sample (default 4)")
-    parser.add_argument("--data", type=Path, default=DATA, help="the tribometer TSV file")
     parser.add_argument("--holdout", type=float, default=0.5,
                         help="the fraction of the record, at its end, kept out of the fits "
                              "(default 0.5)")
@@ -133,7 +124,7 @@ def main(argv=None) -> None:
     args.out.mkdir(parents=True, exist_ok=True)
     started = time.perf_counter()
 
-    record = read_record(args.data, args.step)
+    record = read_record(args.step)
     speed = np.abs(np.diff(record["x"]) / np.diff(record["t"]))
     sliding = speed > 0.5 * speed.max()
     # The force level of sliding: the upper tail of |F| (the strokes' plateaus).

@@ -15,23 +15,16 @@ import copy
 import math
 import tomllib
 import warnings
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 import polind
 from conftest import REPRESENTATIVE
-from polind import io
+from polind import datasets, io
 from polind.errors import InputError
 from polind.identification import default_bounds, fittable_keys, identify
 from polind.models.pol_ind import default_table
-
-# The shared data folder beside the project (CI), else the development machine's.
-RECORD = next((path for path in (
-    Path(__file__).resolve().parents[2] / "shared" / "data" / "tribometer_reciprocating.tsv",
-    Path("/work/shared/data/tribometer_reciprocating.tsv")) if path.exists()),
-    Path("/work/shared/data/tribometer_reciprocating.tsv"))
 
 
 def model(table: dict):
@@ -327,16 +320,13 @@ def test_a_free_key_of_a_table_the_model_does_not_have_asks_for_a_start():
 # --- the measured record: no absurd force level without bounds ----------------------------------
 
 def tribometer(step=8):
-    """The loaded part of the record in SI units, friction resisting positive motion (README)."""
-    if not RECORD.exists():
-        pytest.skip(f"{RECORD} is not available")
-    time_s, normal_un, position_mm, friction_un = np.loadtxt(RECORD, delimiter="\t",
-                                                             skiprows=1, unpack=True)
-    normal = normal_un * 1e-6
+    """The record loaded to 90 % of its median load, one sample in ``step``; SI units,
+    friction resisting positive motion (:func:`polind.datasets.tribometer`)."""
+    record = datasets.tribometer()
+    normal = record["normal_load"]
     loaded = np.flatnonzero(normal >= 0.9 * np.median(normal))
     keep = slice(loaded[0], loaded[-1] + 1, step)
-    return {"t": time_s[keep], "x": (position_mm[keep] - position_mm[0]) * 1e-3,
-            "F": -friction_un[keep] * 1e-6, "normal_load": normal[keep]}
+    return {key: value[keep] for key, value in record.items()}
 
 
 def force_level(fitted, data):

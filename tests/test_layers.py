@@ -35,7 +35,7 @@ LAYERS = (
     ("identification",),
     ("control", "stepper", "dynamics", "simulation"),
     ("models",),
-    ("io",),
+    ("io", "datasets"),
     ("contact", "topography"),
     ("kernels",),
     ("validation", "errors", "resources"),

@@ -22,17 +22,13 @@ from scipy import optimize
 
 import oracles
 import polind
-from polind import cli
+from polind import cli, datasets
 from polind.contact.surface import DirectSurface, StatisticalSurface
 from polind.models.pol_ind import default_table
 from polind.topography import HeightMap, analyse, load_measured_surface
 from polind.topography_figure import virgin_curves
 from test_topography import gaussian_field
 
-ROOT = Path(__file__).resolve().parents[1]
-_DATA = [ROOT.parent / "shared" / "data" / "topography", Path("/work/shared/data/topography")]
-DATA = next((path for path in _DATA if path.is_dir()), _DATA[-1])
-needs_data = pytest.mark.skipif(not DATA.is_dir(), reason=f"shared data not found at {DATA}")
 
 PIXEL = (0.5e-6, 0.5e-6)
 E1, NU = 210e9, 0.3
@@ -338,13 +334,12 @@ def test_cli_surface_of_a_map_model_and_its_errors(capsys, tmp_path, rough_map):
     assert code == 2 and len(err.strip().splitlines()) == 1 and "rough.npy" in err
 
 
-@needs_data
-def test_the_shared_x3p_map_gives_a_pol_ind_model():
-    model = map_model(DATA / "x3p-2.x3p", load=1.0)
+def test_the_x3p_map_of_the_datasets_gives_a_pol_ind_model():
+    path = datasets.height_map_path("x3p-2.x3p")
+    model = map_model(path, load=1.0)
     model = polind.model_from_dict({"model": {**model.params, "type": "pol-ind",
-                                              "surface": {"topography":
-                                                          str(DATA / "x3p-2.x3p")}}})
-    measured = load_measured_surface(DATA / "x3p-2.x3p")
+                                              "surface": {"topography": str(path)}}})
+    measured = load_measured_surface(path)
     contact = model.contact()
     heights = measured.summit_heights - measured.summit_heights.mean()
     assert plain_load(contact.separation, heights, measured.summit_radii) \

@@ -10,7 +10,7 @@ References, each independent of the code under test:
 - Nayak (1971) for an isotropic Gaussian random surface: summit density
   ``m4 / (6 pi sqrt(3) m2)`` and mean summit curvature ``(8/3) sqrt(m4/pi)``
   (both over summits of all heights, so independent of the bandwidth);
-- the two measured maps of shared/data/topography and their README.
+- the two measured maps of :mod:`polind.datasets` and their README.
 """
 
 from __future__ import annotations
@@ -20,23 +20,18 @@ import math
 import os
 import subprocess
 import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 from scipy import integrate
 
-from polind import cli
+from polind import cli, datasets
 from polind.errors import InputError
 from polind.topography import (HeightMap, analyse, find_summits, level,
                                load_measured_surface, low_pass, mean_plane, read_height_map,
                                summit_curvatures)
 from polind.topography_figure import direct_normal_load, figure_png, statistical_normal_load
 
-ROOT = Path(__file__).resolve().parents[1]
-_DATA = [ROOT.parent / "shared" / "data" / "topography", Path("/work/shared/data/topography")]
-DATA = next((path for path in _DATA if path.is_dir()), _DATA[-1])
-needs_data = pytest.mark.skipif(not DATA.is_dir(), reason=f"shared data not found at {DATA}")
 
 #: The keys INTERFACE.md lists for ``polind topography --json``.
 JSON_KEYS = {"grid", "pixel_size", "valid_points", "rms_height", "summits", "summit_density",
@@ -374,11 +369,11 @@ def test_a_file_surface_topography_cannot_read_is_refused(tmp_path):
 
 @pytest.fixture(scope="module")
 def measured():
-    """Both shared maps, read and analysed once."""
-    return {name: load_measured_surface(DATA / name) for name in ("x3p-2.x3p", "sur-2.sur")}
+    """Both maps of polind.datasets, read and analysed once."""
+    return {name: load_measured_surface(datasets.height_map_path(name))
+            for name in ("x3p-2.x3p", "sur-2.sur")}
 
 
-@needs_data
 def test_the_x3p_map_reads_in_metres(measured):
     surface = measured["x3p-2.x3p"]
     assert surface.grid == (650, 650)
@@ -390,7 +385,6 @@ def test_the_x3p_map_reads_in_metres(measured):
     assert 1000 < surface.summits < 10000
 
 
-@needs_data
 def test_the_sur_map_reads_in_metres_with_its_missing_points(measured):
     import SurfaceTopography
 
@@ -399,7 +393,7 @@ def test_the_sur_map_reads_in_metres_with_its_missing_points(measured):
     assert surface.pixel_size == pytest.approx((3.48e-6, 3.48e-6), rel=2e-3)
     assert surface.rms_height == pytest.approx(17e-9, rel=0.03)
     mask = np.ma.getmaskarray(SurfaceTopography.open_topography(
-        str(DATA / "sur-2.sur")).topography().heights())
+        str(datasets.height_map_path("sur-2.sur"))).topography().heights())
     assert mask.sum() > 0
     assert np.array_equal(np.isnan(surface.heights), mask)
     assert surface.valid_points == 563 * 484 - mask.sum()
@@ -410,10 +404,9 @@ def test_the_sur_map_reads_in_metres_with_its_missing_points(measured):
             assert not np.isnan(surface.heights[i + di, j + dj]).any()
 
 
-@needs_data
 def test_a_pixel_size_is_refused_for_a_file_that_has_its_own():
     with pytest.raises(InputError, match="gives its own physical size"):
-        read_height_map(DATA / "sur-2.sur", pixel_size=(1e-6, 1e-6))
+        read_height_map(datasets.height_map_path("sur-2.sur"), pixel_size=(1e-6, 1e-6))
 
 
 # --- the package stays light ------------------------------------------------------------------
@@ -481,10 +474,9 @@ def test_cli_bad_input_is_one_line_and_exit_2(capsys, tmp_path, case):
     one_error_line(err, "--plot -" if "--json" in arguments else os.fspath(arguments[0]))
 
 
-@needs_data
 def test_cli_a_truncated_measurement_is_one_line_and_exit_2(capsys, tmp_path):
     truncated = tmp_path / "cut.sur"
-    truncated.write_bytes((DATA / "sur-2.sur").read_bytes()[:500_000])
+    truncated.write_bytes(datasets.height_map_path("sur-2.sur").read_bytes()[:500_000])
     status, out, err = run(capsys, "topography", truncated)
     assert status == 2 and out == ""
     one_error_line(err, os.fspath(truncated), "SurfaceTopography cannot read", "truncated")

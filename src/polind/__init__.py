@@ -53,8 +53,9 @@ def __getattr__(name):
         value = getattr(importlib.import_module(_LAZY[name]), name)
         globals()[name] = value
         return value
-    if name == "sweeps":
-        # The package of polind.sweep (polind.sweeps.Sweep, ...), imported on first use too.
+    if name in ("sweeps", "datasets"):
+        # The package of polind.sweep (polind.sweeps.Sweep, ...) and the shipped data
+        # (polind.datasets.tribometer(), ...), imported on first use too.
         import importlib
 
         return importlib.import_module(f"{__name__}.{name}")
