@@ -426,3 +426,15 @@ OUT_OF_RANGE = [   # (model type, key, value): outside the domains of MODELS.md 
                          ids=[f"{m}-{k}-{v}" for m, k, v in OUT_OF_RANGE])
 def test_out_of_range_values_name_the_key(model_type, key, value):
     raises_naming(dict(representative(model_type), **{key: value}), key)
+
+
+@pytest.mark.parametrize("model_type", sorted(CONFORMANCE_SETS))
+def test_a_model_declares_the_files_it_reads(model_type):
+    """The keys a model reads files from are its declarations of kind "path" (asked of the
+    model: io and the command line hold no list of them)."""
+    cls = polind.MODEL_TYPES[model_type]
+    expected = {"pol-ind": {"surface.topography", "discretisation.heights_file"}}
+    assert set(cls.file_keys()) == expected.get(model_type, set())
+    table = {"surface": {"topography": "map.x3p"}, "discretisation": {"heights_file": ""}}
+    assert [value for _, _, value in cls.files_in(table)] == \
+        (["map.x3p"] if cls.file_keys() else [])

@@ -259,10 +259,14 @@ def test_relative_heights_file_is_resolved_against_the_model_file(tmp_path, monk
     text = '[model]\ntype = "pol-ind"\n[model.discretisation]\nheights_file = "../summits.csv"\n'
     write_file(tmp_path / "models" / "m.toml", text)
     monkeypatch.chdir(tmp_path / "models")
-    document = io.read_model_file("m.toml")
+    from polind.models import read_model_document
+
+    assert io.read_model_file("m.toml")["model"]["discretisation"]["heights_file"] == \
+        "../summits.csv"                                   # io reads the file as written
+    document = read_model_document("m.toml")               # the model says which keys are files
     assert document["model"]["discretisation"]["heights_file"] == str(tmp_path / "summits.csv")
     absolute = text.replace("../summits.csv", "/data/s.csv")
-    document = io.read_model_file(write_file(tmp_path / "a.toml", absolute))
+    document = read_model_document(write_file(tmp_path / "a.toml", absolute))
     assert document["model"]["discretisation"]["heights_file"] == "/data/s.csv"
 
 

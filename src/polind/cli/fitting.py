@@ -38,11 +38,12 @@ def fit(model_path, data_path, output_path, plot_path, holdout):
     key).  Each warning is also one line on standard error.
     """
     from polind import identification, io
+    from polind.models import read_model_document
 
     refuse_overwriting_inputs([model_path, data_path],
                               {"--output": output_path, "--plot": plot_path})
     with blame(model_path):
-        document = io.read_model_file(model_path)
+        document = read_model_document(model_path)
         model, free, bounds = identification.parse_fit(document)
     io.check_table_memory(data_path, identification.fit_bytes_per_sample(model, free),
                           f"fitting {len(free)} free key{'s' if len(free) != 1 else ''} to")
@@ -89,6 +90,7 @@ def compare(model_paths, data_path, holdout, output_path, plot_path):
     and predicted force against time and position, the held-out part shaded.
     """
     from polind import identification, io
+    from polind.models import read_model_document
 
     refuse_overwriting_inputs([*model_paths, data_path],
                               {"--output": output_path, "--plot": plot_path})
@@ -100,7 +102,7 @@ def compare(model_paths, data_path, holdout, output_path, plot_path):
         if label in documents:
             raise InputError(f"{path}: the model file is given twice; expected each MODEL once.")
         with blame(path):
-            documents[label] = io.read_model_file(path)
+            documents[label] = read_model_document(path)
             model, free, _ = identification.parse_fit(documents[label])
         per_sample = max(per_sample, identification.fit_bytes_per_sample(model, free))
     io.check_table_memory(data_path, per_sample, "fitting the models to")

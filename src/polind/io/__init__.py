@@ -44,10 +44,8 @@ The package, a module per idea (every name below is importable from
 
 from polind.io.columns import MEASUREMENT_COLUMNS, MOTION_COLUMNS
 from polind.io.documents import (
-    MODEL_FILE_KEYS,
     check_tables,
     model_file_text,
-    named_files,
     plain_data,
     read_document,
     read_model_file,
@@ -73,10 +71,8 @@ from polind.io.tables import (
 
 __all__ = [
     # documents: model and system files
-    "MODEL_FILE_KEYS",
     "check_tables",
     "model_file_text",
-    "named_files",
     "plain_data",
     "read_document",
     "read_model_file",

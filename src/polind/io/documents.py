@@ -8,7 +8,7 @@ files (``[model]`` and an optional ``[fit]``, TOML or JSON; read by
 when its name ends in ``.json``, TOML otherwise.  This module holds no
 physics: it reads, checks the shape of what it read (:func:`check_tables`),
 and writes; the models validate their own parameters.  The files a model
-names (:data:`MODEL_FILE_KEYS`) are relative to the model file in a file and
+names (its ``file_keys``) are relative to the model file in a file and
 absolute once read.
 
 Every problem with a file raises :class:`~polind.errors.InputError` with a
@@ -30,7 +30,7 @@ from polind.errors import InputError, describe
 from polind.io.output import atomic_write_text, check_output_path
 from polind.io.text import read_text
 
-__all__ = ["MODEL_FILE_KEYS", "check_tables", "model_file_text", "named_files", "plain_data",
+__all__ = ["check_tables", "model_file_text", "plain_data",
            "read_document", "read_model_file", "read_system_file", "save_model",
            "write_model_file"]
 
@@ -97,9 +97,8 @@ def read_model_file(path) -> dict:
     -------
     dict
         The document: a ``"model"`` table and, if present, a ``"fit"`` table.
-        A relative ``model.discretisation.heights_file`` or
-        ``model.surface.topography`` is made absolute against the model
-        file's directory.
+        Read as written: the files a model names stay relative to the model
+        file here (:func:`polind.models.read_model_document` makes them absolute).
 
     Raises
     ------
@@ -119,26 +118,7 @@ def read_model_file(path) -> dict:
     name = os.fspath(path)
     document = read_document(path)
     check_tables(name, document, required=("model",), allowed=("model", "fit"))
-    # Files a model names are relative to the model file.  A value that is
-    # not a string is the model's to reject.
-    folder = os.path.dirname(os.path.abspath(name))
-    for entries, key, value in named_files(document["model"]):
-        if isinstance(value, str) and value and not os.path.isabs(value):
-            entries[key] = os.path.normpath(os.path.join(folder, value))
     return document
-
-
-#: The files a ``[model]`` table may name, as ``(sub-table, key)``: relative to
-#: the model file in a file, absolute once read.
-MODEL_FILE_KEYS = (("discretisation", "heights_file"), ("surface", "topography"))
-
-
-def named_files(model_table):
-    """``(sub-table, key, value)`` for each of :data:`MODEL_FILE_KEYS` (value None when absent)."""
-    for table, key in MODEL_FILE_KEYS:
-        entries = model_table.get(table) if isinstance(model_table, dict) else None
-        value = entries.get(key) if isinstance(entries, dict) else None
-        yield entries, key, value
 
 
 def read_system_file(path) -> dict:
@@ -267,11 +247,12 @@ def save_model(model, path) -> None:
             and "type" in document["model"]):
         raise InputError(f"save_model needs a polind.FrictionModel. Got {describe(model)} "
                          f"instead.")
-    # The files the model reads: written absolute, and never replaced by the model file.
+    # The files the model reads (it declares them): written absolute, and never replaced
+    # by the model file.
     inputs = []
-    for entries, key, value in named_files(document["model"]):
-        if value:
-            entries[key] = os.path.abspath(value)
-            inputs.append(entries[key])
+    files_in = getattr(model, "files_in", None)
+    for entries, key, value in (files_in(document["model"]) if callable(files_in) else ()):
+        entries[key] = os.path.abspath(value)
+        inputs.append(entries[key])
     check_output_path(path, inputs=inputs)
     write_model_file(path, document)

@@ -48,18 +48,45 @@ def model_from_dict(document: dict) -> FrictionModel:
     return cls(**params)
 
 
+def read_model_document(path) -> dict:
+    """Read a model file (TOML or JSON) as a document, its files made absolute.
+
+    The files a model names (its :meth:`~polind.FrictionModel.file_keys`, such as
+    Pol-Ind's ``discretisation.heights_file`` and ``surface.topography``) are
+    relative to the model file; here they become absolute, so the document can
+    be built anywhere.  A type polind does not know is left for
+    :func:`model_from_dict` to report.
+    """
+    import os
+
+    from polind import io
+
+    document = io.read_model_file(path)
+    model_type = document["model"].get("type")
+    cls = MODEL_TYPES.get(model_type) if isinstance(model_type, str) else None
+    if cls is None and isinstance(model_type, str):
+        try:
+            cls = model_class(model_type)          # an installed plugin's type
+        except _InputError:
+            cls = None
+    if cls is not None:
+        folder = os.path.dirname(os.path.abspath(os.fspath(path)))
+        for entries, key, value in cls.files_in(document["model"]):
+            if not os.path.isabs(value):
+                entries[key] = os.path.normpath(os.path.join(folder, value))
+    return document
+
+
 def load_model(path) -> FrictionModel:
     """Read a model file (TOML, or JSON with the same structure) and build the model.
 
     Errors name the file: ``model.toml: Unknown key 'stifness' ...``.
     """
-    from polind import io
-
-    document = io.read_model_file(path)
+    document = read_model_document(path)
     try:
         return model_from_dict(document)
     except _InputError as error:
         raise _InputError(f"{path}: {error}") from None
 
 
-__all__ += ["model_from_dict", "load_model"]
+__all__ += ["model_from_dict", "load_model", "read_model_document"]

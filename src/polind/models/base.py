@@ -153,6 +153,44 @@ class FrictionModel:
         return None
 
     @classmethod
+    def file_keys(cls) -> tuple:
+        """The dotted keys whose values are files the model reads (declared ``kind="path"``).
+
+        Relative to the model file in a file, absolute once read
+        (:func:`polind.models.read_model_document`); inputs no output of a command may
+        replace.
+        """
+        def walk(entries, prefix):
+            for entry in entries:
+                if isinstance(entry, Table):
+                    yield from walk(entry.entries, f"{prefix}{entry.key}.")
+                elif entry.kind == "path":
+                    yield prefix + entry.key
+        return tuple(walk(cls.parameters, ""))
+
+    @classmethod
+    def files_in(cls, table) -> list:
+        """``(sub-table, key, value)`` of each file key present in a ``[model]`` table (a dict).
+
+        ``sub-table`` is the dict holding the key (to rewrite it in place); a value
+        that is not a non-empty string is the model's to reject and is left out.
+        """
+        found = []
+        for dotted in cls.file_keys():
+            *tables, key = dotted.split(".")
+            entries = table
+            for name in tables:
+                entries = entries.get(name) if isinstance(entries, dict) else None
+            if isinstance(entries, dict) and isinstance(entries.get(key), str) \
+                    and entries[key]:
+                found.append((entries, key, entries[key]))
+        return found
+
+    def files(self) -> list:
+        """The files this model reads (absolute paths once read from a model file)."""
+        return [value for _, _, value in self.files_in(self._params)]
+
+    @classmethod
     def _check(cls, params: dict) -> None:
         """Rules that span several parameters (equal lengths, sums)."""
 

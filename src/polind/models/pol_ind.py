@@ -119,10 +119,9 @@ _SURFACES_LOCK = threading.Lock()
 def _surface_of(params):
     """The surface of a parameter set, from the cache of recently built ones."""
     from polind.contact import build_surface
-    from polind.io import named_files
 
     parts = {key: params.get(key) for key in ("surface", "materials", "discretisation")}
-    for _, name, path in named_files(params):
+    for _, name, path in PolInd.files_in(params):
         if path:
             try:
                 status = os.stat(path)

@@ -28,9 +28,9 @@ import numpy as np
 
 from polind.dynamics import FILE_KEYS, System, file_keys_of, system_from_keys
 from polind.errors import InputError, describe
-from polind.io import (check_tables, read_document, read_model_file, read_motion_csv,
+from polind.io import (check_tables, read_document, read_motion_csv,
                        read_system_file)
-from polind.models import FrictionModel, model_from_dict
+from polind.models import FrictionModel, model_from_dict, read_model_document
 from polind.models.params import Table
 from polind.sweeps.metrics import METRICS, NEEDS
 from polind.sweeps.runs import RunPlan
@@ -260,7 +260,7 @@ class Sweep:
         elif isinstance(model, (str, os.PathLike)):
             path = self._path(model)
             self.inputs.append(path)
-            document = read_model_file(path)
+            document = read_model_document(path)
             where = _Where(path)
         else:
             raise where.error("sweep.model", f"expected a model file; got {describe(model)}")
