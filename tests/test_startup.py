@@ -82,7 +82,7 @@ def test_every_export_resolves_and_simulate_is_the_function():
 
 def test_simulate_is_the_function_whichever_import_comes_first():
     code = ("import polind.dynamics, polind.simulation\nimport polind\n"
-            "print(polind.simulation.__module__, type(polind.simulate).__name__)")
+            "print(polind.simulate.__module__, type(polind.simulate).__name__)")
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                           timeout=300, check=True)
     assert done.stdout.split() == ["polind.simulation", "function"]

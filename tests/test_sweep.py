@@ -21,7 +21,7 @@ import pytest
 import tomli_w
 
 import polind
-from polind.demo import LUGRE_1995
+from conftest import LUGRE_1995
 from polind.dynamics import System, simulate_system
 from polind.errors import InputError
 from polind.sweeps import (MAX_RUNS, METRICS, Sweep, SweepInterrupted, load_sweep, plot_results,
