@@ -438,3 +438,20 @@ def test_a_model_declares_the_files_it_reads(model_type):
     table = {"surface": {"topography": "map.x3p"}, "discretisation": {"heights_file": ""}}
     assert [value for _, _, value in cls.files_in(table)] == \
         (["map.x3p"] if cls.file_keys() else [])
+
+
+@pytest.mark.parametrize("model_type", sorted(REPRESENTATIVE))
+def test_every_model_equals_its_plain_reference(model_type):
+    """Each registered model (those of contact mechanics have their own tests) runs as its
+    plain-Python stepper of tests/oracles.py does: a new model needs its oracle."""
+    import oracles
+
+    assert model_type in oracles.STEPPERS, f"no plain reference for '{model_type}' in oracles.py"
+    rtol = oracles.AGREEMENT.get(model_type, 1e-7)
+    if rtol is None:
+        pytest.skip(f"{model_type} is compared by convergence in its own tests")
+    t, x, _ = motions()
+    got = run(REPRESENTATIVE[model_type], t, x=x).force
+    want = oracles.simulate(REPRESENTATIVE[model_type], t, x=x).force
+    scale = float(np.max(np.abs(want)))
+    np.testing.assert_allclose(got, want, rtol=rtol, atol=rtol * scale)

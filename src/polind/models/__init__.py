@@ -10,6 +10,14 @@ from polind.models.gms import GMS
 from polind.models.leuven import Leuven
 from polind.models.pol_ind import PolInd
 
+# Any other model module of this package registers too: a new built-in model is its
+# module here and its kernel (nothing else in polind names it).
+import importlib as _importlib
+import pkgutil as _pkgutil
+
+for _module in _pkgutil.iter_modules(__path__):
+    _importlib.import_module(f"{__name__}.{_module.name}")
+
 __all__ = ["MODEL_TYPES", "FrictionModel", "Path", "State", "StepFunctions", "StepKernel",
            "register_model", "unregister_model", "model_class", "Coulomb", "Stribeck", "Dahl",
            "LuGre", "MaxwellSlip", "GMS", "Leuven", "PolInd"]
