@@ -177,7 +177,7 @@ def dahl_reference_integration(force, dx, stiffness, coulomb_force, exponent,
 def params(model: dict) -> dict:
     """Inner model dict with the defaults of optional keys filled in."""
     inner = dict(model["model"]) if "model" in model else dict(model)
-    out = dict(DEFAULTS[inner["type"]])
+    out = dict(DEFAULTS.get(inner["type"], {}))
     out.update(inner)
     return out
 
@@ -393,7 +393,14 @@ def _leuven(p, m, rtol=1e-11):
     return OracleResult(m.t, m.x, m.v, force, {"z": zs, "element_force": elements})
 
 
+def _smooth_coulomb(p, m):
+    v = np.concatenate([[m.v[0]], np.diff(m.x) / np.diff(m.t)])
+    return OracleResult(m.t, m.x, m.v, p["coulomb_force"] * np.tanh(v / p["smoothing_velocity"])
+                        + p["viscous_coefficient"] * v, {})
+
+
 STEPPERS = {
+    "smooth-coulomb": _smooth_coulomb,
     "coulomb": _coulomb,
     "stribeck": _stribeck,
     "dahl": _dahl,
