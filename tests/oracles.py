@@ -393,14 +393,7 @@ def _leuven(p, m, rtol=1e-11):
     return OracleResult(m.t, m.x, m.v, force, {"z": zs, "element_force": elements})
 
 
-def _smooth_coulomb(p, m):
-    v = np.concatenate([[m.v[0]], np.diff(m.x) / np.diff(m.t)])
-    return OracleResult(m.t, m.x, m.v, p["coulomb_force"] * np.tanh(v / p["smoothing_velocity"])
-                        + p["viscous_coefficient"] * v, {})
-
-
 STEPPERS = {
-    "smooth-coulomb": _smooth_coulomb,
     "coulomb": _coulomb,
     "stribeck": _stribeck,
     "dahl": _dahl,
