@@ -157,10 +157,12 @@ def render_html(results, images, models, subject, *, title="polind demo") -> str
         "<html lang=\"en\"><head><meta charset=\"utf-8\">",
         f"<title>{html.escape(title)}</title>",
         f"<style>{_STYLE}</style></head><body>",
-        f"<h1>{html.escape(title)}: the friction phenomena of the Pol-Ind model</h1>",
+        f"<h1>{html.escape(title)}: the friction phenomena of the {html.escape(subject)} "
+        f"model</h1>",
         "<p>The six friction phenomena of the user guide ('Friction phenomena'), each run on "
-        "the default Pol-Ind model "
-        "beside the classical models it is compared with. Every experiment is sized by the "
+        f"the {html.escape(subject)} model"
+        + (" beside the classical models it is compared with. " if len(models) > 1 else ". ")
+        + "Every experiment is sized by the "
         "model's own scales (its static and Coulomb forces, Stribeck velocity, presliding "
         "range and lag time). <b>yes</b> means the phenomenon appears in that model's run; a "
         "red cell marks a result that contradicts what the user guide ('Which model shows "
