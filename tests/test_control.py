@@ -152,7 +152,7 @@ def test_pol_ind_under_a_varying_load_equals_simulate(input_name):
     load = 75.0 + 25.0 * np.cos(2 * np.pi * rng.uniform(5.0, 15.0) * t)
     assert load[0] == 100.0 and load.min() < 55.0
     res = polind.simulate(model, t, normal_load=load, **{input_name: motion})
-    system = friction_system(model, DT, input=input_name)
+    system = friction_system(model, DT, input=input_name, normal_load=True)
     x0 = initial_state(model) if input_name == "v" else \
         initial_state(model, velocity=(motion[1] - motion[0]) / DT)
     first = _force(_respond(system, t, motion, x0, load))
@@ -185,7 +185,8 @@ def test_names_and_layout():
     system = friction_system(model, DT, name="contact")
     assert system.name == "contact"
     assert system.isdtime(strict=True) and system.dt == DT
-    assert system.input_labels == ["x", "normal_load"]
+    assert system.input_labels == ["x"]       # the model's own load unless asked for
+    assert friction_system(model, DT, normal_load=True).input_labels == ["x", "normal_load"]
     assert system.output_labels == ["F"]
     names = state_names(model)
     assert system.state_labels == names
@@ -216,6 +217,36 @@ def test_friction_system_refuses_a_bad_input(bad):
         friction_system(lib(ALL["lugre"]), DT, input=bad)
 
 
+@pytest.mark.parametrize("model_type", ["lugre", "dahl", "coulomb"])
+def test_a_load_input_for_a_model_that_uses_none_is_refused(model_type):
+    model = lib(ALL[model_type])
+    assert not model.uses_normal_load
+    with pytest.raises(polind.InputError, match="'normal_load'.*does not use a normal load"):
+        friction_system(model, DT, normal_load=True)
+    # with a reference load it does use one
+    loaded = lib({**ALL[model_type], "reference_load": 50.0})
+    assert friction_system(loaded, DT, normal_load=True).input_labels == ["x", "normal_load"]
+
+
+@pytest.mark.parametrize("flag", [1, "yes", None, 0.0])
+def test_normal_load_must_be_true_or_false(flag):
+    with pytest.raises(polind.InputError, match="'normal_load' of friction_system must be True"):
+        friction_system(lib(ALL["pol-ind"]), DT, normal_load=flag)
+
+
+def test_pol_ind_without_a_load_input_runs_at_its_own_load():
+    # Issue 23: left unconnected, the load input failed deep inside python-control.
+    model = lib(ALL["pol-ind"])
+    t = _times(50)
+    x = 1e-6 * np.sin(2 * np.pi * 10.0 * t)
+    system = friction_system(model, DT)
+    assert system.input_labels == ["x"]
+    force = _force(control.input_output_response(
+        system, t, x, initial_state(model, velocity=(x[1] - x[0]) / DT)))
+    res = polind.simulate(model, t, x=x)
+    assert_close(force, res.force, 1e-12, _scale(res.force), "pol-ind at its own load")
+
+
 def test_friction_system_and_initial_state_refuse_a_non_model():
     with pytest.raises(polind.InputError, match="friction model"):
         friction_system({"type": "lugre"}, DT)
@@ -237,7 +268,7 @@ def test_initial_state_refuses_bad_arguments():
 
 def test_a_response_refuses_bad_samples():
     model = lib(ALL["pol-ind"])
-    system = friction_system(model, DT)
+    system = friction_system(model, DT, normal_load=True)
     t = _times(5)
     x = np.zeros(5)
     x0 = initial_state(model)
@@ -284,7 +315,7 @@ def test_a_mounted_model_equals_simulate(model_type, mount, input_name):
     uses_load = model.uses_normal_load
     res = polind.simulate(model, t, normal_load=load if uses_load else None,
                           **{input_name: motion})
-    system = friction_system(model, DT, input=input_name)
+    system = friction_system(model, DT, input=input_name, normal_load=uses_load)
     assert system.ninputs == (2 if uses_load else 1)
     names = state_names(model)
     assert names[-6:-3] == ["spring_force", "contact_position", "contact_velocity"]

@@ -1,0 +1,23 @@
+"""polind's models and bodies as python-control systems (:ref:`guide-python-control`).
+
+* :func:`friction_system`: a friction model alone, input the motion
+  (``"x"`` or ``"v"``), output the friction force; its response equals
+  :func:`polind.simulate`'s (:mod:`polind.control.friction`).
+
+python-control is an optional dependency: ``pip install polind[control]``.
+``import polind`` never imports this package.
+"""
+
+from __future__ import annotations
+
+try:
+    import control  # noqa: F401  (python-control: the optional extra)
+except ImportError as error:    # the optional extra is not installed
+    raise ImportError("polind.control needs python-control: "
+                      "pip install polind[control]") from error
+
+from polind.control.friction import (CARRIED_STATES, MOUNT_STATES, friction_system,
+                                     initial_state, state_names)
+
+__all__ = ["friction_system", "initial_state", "state_names", "CARRIED_STATES",
+           "MOUNT_STATES"]
