@@ -332,8 +332,8 @@ def test_a_mounted_model_equals_simulate(model_type, mount, input_name):
 # ---------------------------------------------------------------------------
 
 from polind.control import (BODY_STATES, MOUNT_STATES, body_state_names,  # noqa: E402
-                            body_system)
-from polind.models import GMS, LuGre, PolInd  # noqa: E402
+                            body_system, contact_stiffness, linearize)
+from polind.models import GMS, Dahl, Leuven, LuGre, MaxwellSlip, PolInd  # noqa: E402
 
 MASS = 1.0
 #: (set point [m], Kp [N/m], Kd [N s/m]) of a 1 kHz PD loop that breaks the body away,
@@ -522,3 +522,93 @@ def test_explicit_coupling_chatters_where_body_system_holds_still():
     friction = explicit[1, late]
     assert np.count_nonzero(np.diff(np.sign(friction))) > 20    # chatters
     assert np.ptp(explicit[0, late]) > 1e-7
+
+
+# ---------------------------------------------------------------------------
+# linearize: the stuck body's two-state model
+# ---------------------------------------------------------------------------
+
+def _measured_stiffness(model, start=None, t0=0.0, x0=0.0):
+    """The slope of F against x over a tiny slow displacement (1e-4 of the presliding range)."""
+    travel = 1e-4 * model.characteristic_scales()["presliding_range"]
+    t = t0 + np.linspace(0.0, 1.0, 101)
+    res = polind.simulate(model, t, x=x0 + travel * (t - t0), state=start)
+    return float(np.polyfit(res.x[1:], res.force[1:], 1)[0])
+
+
+@pytest.mark.parametrize("cls", [PolInd, LuGre, GMS, MaxwellSlip, Dahl, Leuven],
+                         ids=lambda cls: cls.type)
+def test_the_natural_frequency_is_that_of_the_measured_presliding_stiffness(cls):
+    model = cls.example()
+    mass = 2.5
+    system = linearize(model, mass)
+    assert system.nstates == 2 and system.isctime()
+    assert system.state_labels == ["x", "v"] and system.input_labels == ["u"]
+    assert system.output_labels == ["x", "v", "F"]
+    natural, _, _ = system.damp()
+    measured = np.sqrt(_measured_stiffness(model) / mass)
+    assert natural[0] == pytest.approx(measured, rel=0.01)
+    # Pol-Ind: the stiffness its characteristic scales give (the sum of its elements)
+    stiffness, _ = contact_stiffness(model)
+    assert stiffness == pytest.approx(model.characteristic_scales()["presliding_stiffness"],
+                                      rel=1e-12)
+
+
+def test_lugre_damping_is_its_bristle_damping_and_viscous_term():
+    model = LuGre.example()
+    params = model.params
+    stiffness, damping = contact_stiffness(model)
+    assert stiffness == pytest.approx(params["bristle_stiffness"], rel=1e-12)
+    assert damping == pytest.approx(params["bristle_damping"] + params["viscous_coefficient"],
+                                    rel=1e-12)
+    # measured: the force at one tiny displacement reached at two velocities
+    t = np.linspace(0.0, 1e-3, 101)
+    slow = polind.simulate(model, t, x=1e-6 * t).force[-1]            # 1 um/s
+    fast = polind.simulate(model, t / 2, x=1e-6 * t).force[-1]        # 2 um/s
+    assert (fast - slow) / 1e-6 == pytest.approx(damping, rel=0.01)
+    _, zeta, _ = linearize(model, 1.0).damp()
+    assert zeta[0] == pytest.approx(damping / (2.0 * np.sqrt(stiffness)), rel=1e-9)
+
+
+def test_at_a_state_only_the_elements_that_stick_count():
+    # Maxwell-slip pushed through half its presliding range: the soft elements have
+    # slipped, and a further push meets only the stiff ones that still stick.
+    model = MaxwellSlip.example()
+    travel = 0.5 * model.characteristic_scales()["presliding_range"]
+    res = polind.simulate(model, np.linspace(0.0, 1.0, 101), x=travel * np.linspace(0, 1, 101))
+    state = res.final_state
+    at_rest, _ = contact_stiffness(model)
+    there, _ = contact_stiffness(model, state)
+    assert there < 0.5 * at_rest
+    assert there == pytest.approx(_measured_stiffness(model, state, 1.0, res.x[-1]), rel=0.01)
+    natural, _, _ = linearize(model, 1.0, state=state).damp()
+    assert natural[0] == pytest.approx(np.sqrt(there), rel=1e-12)
+
+
+def test_a_series_spring_is_in_series_with_the_contact():
+    spring = 3e4
+    model = lib({**REPRESENTATIVE["gms"], "compliance": {"stiffness": spring}})
+    contact, damping = contact_stiffness(lib(REPRESENTATIVE["gms"]))
+    stiffness, seen = contact_stiffness(model)
+    assert stiffness == pytest.approx(contact * spring / (contact + spring), rel=1e-12)
+    assert seen == pytest.approx(damping * (spring / (contact + spring)) ** 2, rel=1e-12)
+    assert stiffness == pytest.approx(_measured_stiffness(model), rel=0.01)
+    # a memoryless contact behind a spring: the spring alone
+    stribeck = lib({**REPRESENTATIVE["stribeck"], "compliance": {"stiffness": spring}})
+    assert contact_stiffness(stribeck) == (spring, 0.0)
+
+
+@pytest.mark.parametrize("model_type", ["coulomb", "stribeck"])
+def test_a_memoryless_model_has_no_small_signal_model(model_type):
+    with pytest.raises(polind.InputError, match="rigidly"):
+        linearize(lib(REPRESENTATIVE[model_type]), 1.0)
+
+
+def test_linearize_refuses_bad_arguments():
+    model = LuGre.example()
+    with pytest.raises(polind.InputError, match="'mass'"):
+        linearize(model, 0.0)
+    with pytest.raises(polind.InputError, match="friction model"):
+        linearize("lugre", 1.0)
+    with pytest.raises(polind.InputError, match="polind State"):
+        linearize(model, 1.0, state={"z": 0.0})

@@ -7,6 +7,9 @@
   applied force, outputs ``x``, ``v``, ``F``, stepped by the implicit step
   of :class:`polind.Body`; a loop closed around it equals the same loop
   around a ``Body`` (:mod:`polind.control.body`).
+* :func:`linearize`: the stuck body's small-signal two-state model, from
+  the contact's presliding stiffness and damping
+  (:mod:`polind.control.linear`).
 
 python-control is an optional dependency: ``pip install polind[control]``.
 ``import polind`` never imports this package.
@@ -23,6 +26,8 @@ except ImportError as error:    # the optional extra is not installed
 from polind.control.body import BODY_STATES, body_state_names, body_system
 from polind.control.friction import (CARRIED_STATES, MOUNT_STATES, friction_system,
                                      initial_state, state_names)
+from polind.control.linear import contact_stiffness, linearize
 
 __all__ = ["friction_system", "initial_state", "state_names", "body_system",
-           "body_state_names", "CARRIED_STATES", "MOUNT_STATES", "BODY_STATES"]
+           "body_state_names", "linearize", "contact_stiffness", "CARRIED_STATES",
+           "MOUNT_STATES", "BODY_STATES"]
