@@ -33,7 +33,7 @@ LAYERS = (
     ("demo", "report", "bench", "topography_figure"),
     ("phenomena", "sweeps"),
     ("identification",),
-    ("control", "stepper", "dynamics", "simulate"),
+    ("control", "fmu", "stepper", "dynamics", "simulate"),
     ("models",),
     ("io",),
     ("contact", "topography"),
