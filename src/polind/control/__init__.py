@@ -2,14 +2,14 @@
 
 * :func:`friction_system`: a friction model alone, input the motion
   (``"x"`` or ``"v"``), output the friction force; its response equals
-  :func:`polind.simulate`'s (:mod:`polind.control.friction`).
+  :func:`polind.simulate`'s (``polind.control.friction``).
 * :func:`body_system`: a mass and its contact as one system, input the
   applied force, outputs ``x``, ``v``, ``F``, stepped by the implicit step
   of :class:`polind.Body`; a loop closed around it equals the same loop
-  around a ``Body`` (:mod:`polind.control.body`).
+  around a ``Body`` (``polind.control.body``).
 * :func:`linearize`: the stuck body's small-signal two-state model, from
   the contact's presliding stiffness and damping
-  (:mod:`polind.control.linear`).
+  (``polind.control.linear``).
 
 python-control is an optional dependency: ``pip install polind[control]``.
 ``import polind`` never imports this package.
