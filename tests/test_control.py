@@ -383,7 +383,7 @@ def test_a_pd_loop_around_body_system_equals_the_loop_around_body(model_type):
 
 
 @pytest.mark.parametrize("case", ["euler", "started", "gms behind a spring", "stribeck",
-                                  "lugre under a load"])
+                                  "lugre under a load", "pol-ind under a load"])
 def test_a_response_to_forces_equals_body_steps(case):
     rng = np.random.default_rng(21)
     steps = 300
@@ -400,9 +400,12 @@ def test_a_response_to_forces_equals_body_steps(case):
         model = lib({**ALL["gms"], "compliance": {"stiffness": 3e4}})
     elif case == "stribeck":
         model = lib(ALL["stribeck"])
-    else:
+    elif case == "lugre under a load":
         model = lib({**ALL["lugre"], "reference_load": 80.0})
         load = 80.0 + 30.0 * np.sin(2 * np.pi * 7.0 * DT * np.arange(steps))
+    else:                     # its contact mechanics at 50-100 N (at most its own load)
+        model = PolInd.example()
+        load = 75.0 + 25.0 * np.cos(2 * np.pi * 6.0 * DT * np.arange(steps))
     scale = model.characteristic_scales()["static_force"]
     forces = scale * (1.5 * np.sin(2 * np.pi * 4.0 * DT * np.arange(steps))
                       + 0.3 * rng.standard_normal(steps))
