@@ -16,7 +16,7 @@
 3. Times the reading, the computing and the writing inside one process.
    The machine's other load shows in wall times: the CPU seconds of each
    subprocess are reported beside them.
-4. Measures ``polind.simulation`` itself: the bytes it allocates per sample
+4. Measures ``polind.simulate`` itself: the bytes it allocates per sample
    beyond its inputs (tracemalloc's peak, which NumPy's arrays report to), for
    a displacement motion, a velocity motion, and a displacement motion with a
    normal-load signal, each in a fresh process.

@@ -72,7 +72,7 @@ def lib(inner: dict):
 
 
 def run(inner: dict, t, x=None, v=None, state=None):
-    """``polind.simulation`` of an inner model dict."""
+    """``polind.simulate`` of an inner model dict."""
     import polind
 
     kwargs = {"x": x} if x is not None else {"v": v}

@@ -1,7 +1,7 @@
 """One-degree-of-freedom systems (MODELS.md 8): ``polind.dynamics.simulate_system``.
 
 Every check is against a closed form, an independent reference (scipy's
-Radau on the LuGre ODE, ``polind.simulation`` along the body's own path) or a
+Radau on the LuGre ODE, ``polind.simulate`` along the body's own path) or a
 much finer run of the same scheme (the convergence order), never against
 stored output.
 """

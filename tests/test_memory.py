@@ -2,7 +2,7 @@
 
 ``polind simulate``, ``fit`` and ``compare`` estimate a data file's rows
 from its size (Parquet: its metadata) and refuse before reading it; the
-readers, :func:`polind.simulation`, :func:`polind.identify` and the element fit
+readers, :func:`polind.simulate`, :func:`polind.identify` and the element fit
 refuse before allocating; the demo's runs are refused naming their
 experiment.  Each refusal is an ``InputError`` (exit 2 on the command line)
 naming the setting and the estimate; ``--max-memory`` sets the limit.

@@ -408,6 +408,7 @@ SUBPACKAGES = (
     ("polind.contact", "Contact mechanics of the Pol-Ind model"),
     ("polind.topography", "Measured surfaces"),
     ("polind.control", "python-control systems"),
+    ("polind.fmu", "FMUs for Modelica tools and Simulink"),
     ("polind.sweeps", "Parameter sweeps"),
     ("polind.datasets", "Measured data shipped with polind"),
 )

@@ -252,7 +252,7 @@ class SystemResult:
         F_applied(t, x) [N]: the drive spring's force plus the applied force.
     final_state : State
         The friction model's state at the last sample (pass it to
-        :func:`polind.simulation` to continue along a prescribed motion).
+        :func:`polind.simulate` to continue along a prescribed motion).
     """
 
     t: np.ndarray

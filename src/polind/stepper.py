@@ -2,7 +2,7 @@
 
 Both run the model's own step function (the stepping contract of the user
 guide, :mod:`polind.kernels.contract`) one sample at a time, with the same
-arithmetic as :func:`polind.simulation` and :func:`polind.simulate_system`:
+arithmetic as :func:`polind.simulate` and :func:`polind.simulate_system`:
 
 * :class:`Stepper` is a prescribed motion fed sample by sample (a position
   or a velocity per call) and gives the friction force at each sample,
@@ -93,7 +93,7 @@ def _state_of(model, template, flat, time, position, velocity, force):
 class Stepper:
     """A friction model advanced one sample at a time along a prescribed motion.
 
-    ``advance`` follows the rules of :func:`polind.simulation` exactly: with
+    ``advance`` follows the rules of :func:`polind.simulate` exactly: with
     ``x`` the path is linear between samples (step velocity
     ``(x - x_prev) / (t - t_prev)``); with ``v`` the step's velocity is the
     mean of its end velocities and the position its trapezoidal integral.
@@ -113,7 +113,7 @@ class Stepper:
         state, its own; a value given beside it must agree).
     velocity : float, default 0
         The velocity [m/s] at the first sample.  Only the first
-        ``force`` depends on it (its rate terms); :func:`polind.simulation`
+        ``force`` depends on it (its rate terms); :func:`polind.simulate`
         with ``x`` reports the first step's velocity there, which a stepper
         cannot know before the step: pass it here to get that force too.
 

@@ -1,7 +1,7 @@
 """The ratio rows of ``polind bench``: two timings taken in the same run, and their ratio.
 
 The figures the user-loop API is held to: :class:`polind.Stepper` against a
-bare Python-to-numba call, :func:`polind.simulation` end to end against the bare
+bare Python-to-numba call, :func:`polind.simulate` end to end against the bare
 numba loops of :mod:`polind.bench.references`, and the Pol-Ind model under a
 varying against a constant normal load (:func:`run_ratios`).
 

@@ -9,7 +9,7 @@ kernels:
 * bare numba loops (``bare_*``, :func:`plain_gms`): what a user would write by
   hand for one model and one kind of motion, with nothing else (no
   validation, no path preparation, no state object); the ratio rows
-  (:mod:`polind.bench.ratios`) time :func:`polind.simulation` and
+  (:mod:`polind.bench.ratios`) time :func:`polind.simulate` and
   :class:`polind.Stepper` against them.
 """
 

@@ -20,6 +20,7 @@ The modules, grouped by what the commands do:
 - :mod:`polind.cli.fitting`: ``fit`` and ``compare``;
 - :mod:`polind.cli.surfaces`: ``surface`` and ``topography``;
 - :mod:`polind.cli.reports`: ``demo`` and ``bench``;
+- :mod:`polind.cli.exports`: ``fmu``;
 - this package: :func:`main`, which runs the group and turns errors into exit
   statuses; importing it registers every command.
 
@@ -43,7 +44,7 @@ import warnings
 import click
 
 # The commands register on the group when their modules are imported.
-from polind.cli import fitting, reports, runs, surfaces  # noqa: F401
+from polind.cli import exports, fitting, reports, runs, surfaces  # noqa: F401
 from polind.cli.common import PROGRAM, cli, progress
 from polind.errors import InputError
 

@@ -15,9 +15,13 @@ the step; rate terms (``sigma2 v``, LuGre's ``sigma1 dz/dt``) are taken at
 ``sample_velocity``, the velocity reported at that sample.  ``normal_load``
 [N] is the normal load at that sample (models without load dependence ignore
 it).  ``force`` is the force at the current state without moving (the first
-sample of a run).  ``tangent`` estimates ``dF/dw`` after a step at ``w`` (a
-first Newton step of the one-degree-of-freedom solver; any positive estimate
-is safe, since the solver brackets and falls back to bisection).
+sample of a run).  ``tangent`` gives ``dF/dw`` of a step of length ``step``
+from ``state`` at a small ``w``, as ``k step + c``: ``k`` the summed stiffness
+of what sticks (0 for a memoryless model), ``c`` the rate terms.  The
+one-degree-of-freedom solver takes its first Newton step with it (any
+positive estimate is safe there: it brackets and falls back to bisection);
+:func:`polind.control.linearize` reads the stuck body's stiffness and
+damping from it.
 
 Everything else — prescribed paths (:func:`run_steps`), the implicit body of
 :mod:`polind.kernels.dynamics`, :class:`polind.Stepper`, a user's own
@@ -115,7 +119,7 @@ def run_motion(step, force, scalars, table, state, source_t, source_motion, t, m
                loads, constant_load, lo, hi, first, out_force):
     """Copy, check and cut the samples ``lo .. hi - 1`` and run the model over them, in one pass.
 
-    The loop of :func:`polind.simulation`: it reads the sample times
+    The loop of :func:`polind.simulate`: it reads the sample times
     ``source_t`` and the ``source_motion`` (positions, or velocities with
     ``by_velocity``), copies them into ``t`` and ``motion`` (which may be the
     same arrays as the sources), checks the times (finite, increasing) and

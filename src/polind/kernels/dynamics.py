@@ -8,7 +8,7 @@ The step
 --------
 Over a step of length ``h`` the body moves at a constant *step velocity*
 ``w`` (``x_{n+1} = x_n + h w``: the path is linear between samples, as for
-:func:`polind.simulation` with ``x``), and every friction model has an exact
+:func:`polind.simulate` with ``x``), and every friction model has an exact
 (or unconditionally stable) update at constant velocity, so the friction
 force at the end of the step is a function ``F(w)`` of the one unknown.  A
 *trial* evaluates it on a scratch copy of the model state; the accepted

@@ -1,7 +1,7 @@
 """What every friction model shares: parameters, state, the stepping contract.
 
 A model is a validated parameter set plus a kernel (a stepper owns its
-bookkeeping, a model supplies only the physics).  :func:`polind.simulation`
+bookkeeping, a model supplies only the physics).  :func:`polind.simulate`
 turns the prescribed motion into a :class:`Path` of steps; each model's
 ``_advance`` runs its numba kernel over the path, updating a :class:`State`
 in place, and returns the force at every sample.
@@ -88,7 +88,7 @@ class FrictionModel:
     * optionally ``force_scale``, ``rest_capacity`` (memoryless models),
       ``characteristic_scales``, ``phenomena`` and ``fit_defaults``.
 
-    :func:`polind.simulation`, :class:`polind.Stepper`, :class:`polind.Body`,
+    :func:`polind.simulate`, :class:`polind.Stepper`, :class:`polind.Body`,
     :func:`polind.simulate_system`, identification, the phenomena and the
     benchmark all work from these.  :func:`polind.register_model` makes a
     subclass defined outside polind usable in model files.

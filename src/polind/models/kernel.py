@@ -25,7 +25,7 @@ class StepFunctions:
     ``integrate`` (``polind.kernels.dynamics.integrate_system_template``),
     ``body`` (``polind.kernels.dynamics.advance_body_template``) and
     ``motion`` (``polind.kernels.contract.run_motion``, the loop of
-    :func:`polind.simulation`).  numba can keep those in its
+    :func:`polind.simulate`).  numba can keep those in its
     on-disk cache, which it cannot do for a template given functions as
     arguments; without them the generic templates run the model, compiled
     once per process.

@@ -160,7 +160,7 @@ class PolInd(FrictionModel):
     Parameters
     ----------
     normal_load : float
-        N [N]; a ``normal_load`` array given to :func:`polind.simulation`
+        N [N]; a ``normal_load`` array given to :func:`polind.simulate`
         replaces it sample by sample.
     static_coefficient, kinetic_coefficient : float
         mu_s and mu_k.

@@ -32,7 +32,7 @@ def register_model(cls, *, replace=False):
     """Make a :class:`~polind.FrictionModel` subclass usable everywhere under its ``type``.
 
     After ``polind.register_model(MyModel)`` the type can be named in model
-    files (``type = "my-model"``) and runs in :func:`polind.simulation`,
+    files (``type = "my-model"``) and runs in :func:`polind.simulate`,
     :class:`polind.Stepper`, :class:`polind.Body`,
     :func:`polind.simulate_system`, :func:`polind.identify` and sweeps,
     with no change to polind's own files.  The class must subclass

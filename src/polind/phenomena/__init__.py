@@ -1,7 +1,7 @@
 """The six friction phenomena (:ref:`guide-phenomena`): the experiments, their metrics and their checks.
 
 Each experiment runs one friction model through a prescribed motion
-(:func:`polind.simulation`) or a one-degree-of-freedom system (:ref:`guide-systems`)
+(:func:`polind.simulate`) or a one-degree-of-freedom system (:ref:`guide-systems`)
 (:func:`polind.dynamics.simulate_system`) and returns a
 :class:`PhenomenonResult`: the arrays its figure shows (``data``), the
 numbers that measure the phenomenon (``metrics``), the inputs used

@@ -4,7 +4,7 @@
 tables or the motion, the swept keys, the metrics), sent once to each Dask
 worker; :func:`run_one` sets a run's values in copies of those tables,
 simulates the system (:func:`polind.simulate_system`) or the prescribed
-motion (:func:`polind.simulation`) and computes the metrics
+motion (:func:`polind.simulate`) and computes the metrics
 (:mod:`polind.sweeps.metrics`).  A run that fails is a row all the same, its
 ``status`` the one-line error (:func:`one_line`), so that a sweep goes on.
 """

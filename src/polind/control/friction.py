@@ -1,6 +1,7 @@
 """A friction model as a python-control system: :func:`friction_system`.
 
-The user guide, :ref:`guide-python-control`.
+The user guide, :ref:`guide-python-control`.  (A mass and its contact as one
+system is :mod:`polind.control.body`.)
 
 ``polind.control.friction_system(model, dt)`` wraps any polind model (or a
 registered model of your own) as a discrete-time
@@ -8,7 +9,7 @@ registered model of your own) as a discrete-time
 controllers with python-control's ``interconnect``, ``feedback`` and
 ``input_output_response``.  Each sample runs the model's own compiled step
 (the stepping contract of :mod:`polind.kernels.contract`) with the
-arithmetic of :func:`polind.simulation` and :class:`polind.Stepper`, so a
+arithmetic of :func:`polind.simulate` and :class:`polind.Stepper`, so a
 response equals ``simulate``'s on the same samples.
 
 python-control is an optional dependency: ``pip install polind[control]``.
@@ -47,18 +48,15 @@ from collections import OrderedDict
 
 import numpy as np
 
-try:
-    import control as _ct
-except ImportError as error:    # the optional extra is not installed
-    raise ImportError("polind.control needs python-control: "
-                      "pip install polind[control]") from error
+import control as _ct   # python-control; polind.control says how to install it
 
 from polind.errors import InputError, describe
 from polind.stepper import check_model, LoadCheck, start_state
 from polind.validation import check_number
 
-__all__ = ["friction_system", "initial_state", "state_names", "CARRIED_STATES",
-           "MOUNT_STATES"]
+__all__ = ["friction_system", "initial_state", "state_names", "model_state_names", "mounted",
+           "check_step", "check_flag", "check_load_input", "CARRIED_STATES", "MOUNT_STATES",
+           "MOUNT_SLOTS"]
 
 #: The states after the model's own, in this order (see the module notes).
 CARRIED_STATES = ("position", "velocity", "started")
@@ -67,13 +65,40 @@ CARRIED_STATES = ("position", "velocity", "started")
 MOUNT_STATES = ("spring_force", "contact_position", "contact_velocity")
 
 
-# The mount's work slots (polind.kernels.mount), in MOUNT_STATES order.
-_MOUNT_SLOTS = [6, 7, 8]
+#: The mount's work slots (:mod:`polind.kernels.mount`), in :data:`MOUNT_STATES` order.
+MOUNT_SLOTS = [6, 7, 8]
 
 
-def _mounted(model) -> bool:
+def mounted(model) -> bool:
     """Whether the model runs mounted (a series spring, or a load scaling)."""
     return model.series_stiffness < math.inf or model.reference_load is not None
+
+
+def check_step(owner, dt) -> float:
+    """The sampling time ``dt`` [s] of a system, checked: a positive finite number."""
+    if isinstance(dt, bool) or not isinstance(dt, (int, float, np.integer, np.floating)) \
+            or not (math.isfinite(float(dt)) and float(dt) > 0.0):
+        raise InputError(f"The 'dt' of {owner} must be a positive finite number "
+                         f"(the sampling time, s). Got {describe(dt)} instead.")
+    return float(dt)
+
+
+def check_flag(owner, name, value) -> bool:
+    """A true/false argument, checked (``True``/``False`` only)."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise InputError(f"The '{name}' of {owner} must be True or False. "
+                         f"Got {describe(value)} instead.")
+    return bool(value)
+
+
+def check_load_input(owner, model, normal_load) -> bool:
+    """Whether a system gets a ``normal_load`` input: asked for, and the model uses a load."""
+    if check_flag(owner, "normal_load", normal_load) and not model.uses_normal_load:
+        raise InputError(f"The 'normal_load' of {owner} asks for a normal-load input, but the "
+                         f"{model.type} model does not use a normal load; expected "
+                         f"normal_load=False, or a model with a 'reference_load' (the user "
+                         f"guide, 'Normal load for every model').")
+    return bool(normal_load)
 
 INPUTS = ("x", "v")
 
@@ -82,15 +107,22 @@ INPUTS = ("x", "v")
 _REMEMBERED = 8
 
 
+def model_state_names(model) -> list:
+    """The names of the model's flat state: ``"<variable>[<i>]"``, in ``state_keys`` order."""
+    rest = model.initial_state()
+    keys = model.state_keys if model.state_keys is not None else tuple(rest.variables)
+    names = []
+    for key in keys:
+        size = np.size(rest.variables[key])
+        names.extend(f"{key}[{i}]" for i in range(size))
+    return names
+
+
 def state_names(model) -> list:
     """The names of the system's states: the model's variables, then :data:`CARRIED_STATES`."""
     check_model(model, "state_names")
-    rest = model.initial_state()
-    names = []
-    for key in model._state_keys():
-        size = np.size(rest.variables[key])
-        names.extend(f"{key}[{i}]" for i in range(size))
-    return names + (list(MOUNT_STATES) if _mounted(model) else []) + list(CARRIED_STATES)
+    return model_state_names(model) + (list(MOUNT_STATES) if mounted(model) else []) \
+        + list(CARRIED_STATES)
 
 
 def initial_state(model, state=None, *, position=None, velocity=None) -> np.ndarray:
@@ -153,7 +185,7 @@ def initial_state(model, state=None, *, position=None, velocity=None) -> np.ndar
         start = model.initial_state()
         start.position = carried[0]
     mount = ()
-    if _mounted(model):
+    if mounted(model):
         from polind.kernels.mount import CONTACT_POSITION, CONTACT_VELOCITY, SPRING_FORCE
         array = model.mount_array(start, True)
         mount = (array[SPRING_FORCE], array[CONTACT_POSITION], array[CONTACT_VELOCITY])
@@ -161,7 +193,7 @@ def initial_state(model, state=None, *, position=None, velocity=None) -> np.ndar
                            np.array(carried, dtype=float)))
 
 
-def friction_system(model, dt, input="x", *, name=None):
+def friction_system(model, dt, input="x", normal_load=False, *, name=None):
     """The friction model as a discrete-time python-control ``NonlinearIOSystem``.
 
     Parameters
@@ -175,18 +207,23 @@ def friction_system(model, dt, input="x", *, name=None):
         The motion input: position x [m] (linear path between samples, step
         velocity ``(x[k] - x[k-1]) / dt``) or velocity v [m/s] (each step at
         the mean of its end velocities, position its trapezoidal integral),
-        as in :func:`polind.simulation`.
+        as in :func:`polind.simulate`.
+    normal_load : bool, default False
+        Whether the system has a second input ``"normal_load"`` [N], the
+        normal load at each sample.  Only for a model that uses one
+        (``model.uses_normal_load``: Pol-Ind, each sample's load at most the
+        model's own ``normal_load``, within the surface's range; a model with
+        a ``reference_load``, any positive load); for any other model it is
+        an :class:`~polind.InputError`.  Without it the model runs at its own
+        load (``model.constant_load``).
     name : str, optional
         The system's name in python-control (for ``interconnect``).
 
     Returns
     -------
     control.NonlinearIOSystem
-        Inputs ``[input]``, plus ``"normal_load"`` [N] for a model that uses
-        a normal load (``model.uses_normal_load``: Pol-Ind, each sample's
-        load at most the model's own ``normal_load``, within the surface's
-        range; a model with a ``reference_load``, any positive load);
-        output ``"F"``, the friction force [N]; states as
+        Inputs ``[input]``, plus ``"normal_load"`` when asked for; output
+        ``"F"``, the friction force [N]; states as
         :func:`state_names` (the model's state, then ``position``,
         ``velocity``, ``started``), ``X0`` from :func:`initial_state`.
 
@@ -239,17 +276,15 @@ def friction_system(model, dt, input="x", *, name=None):
     True
     """
     check_model(model, "friction_system")
-    if isinstance(dt, bool) or not isinstance(dt, (int, float, np.integer, np.floating)) \
-            or not (math.isfinite(float(dt)) and float(dt) > 0.0):
-        raise InputError(f"The 'dt' of friction_system must be a positive finite number "
-                         f"(the sampling time, s). Got {describe(dt)} instead.")
+    dt = check_step("friction_system", dt)
     if not isinstance(input, str) or input not in INPUTS:
         raise InputError(f"The 'input' of friction_system must be 'x' (position) or 'v' "
                          f"(velocity). Got {describe(input)} instead.")
-    step = _SampleStep(model, float(dt), input)
-    inputs = [input] + (["normal_load"] if model.uses_normal_load else [])
+    takes_load = check_load_input("friction_system", model, normal_load)
+    step = _SampleStep(model, dt, input, takes_load)
+    inputs = [input] + (["normal_load"] if takes_load else [])
     return _ct.NonlinearIOSystem(step.update, step.output, inputs=inputs, outputs=["F"],
-                                 states=state_names(model), dt=float(dt), name=name)
+                                 states=state_names(model), dt=dt, name=name)
 
 
 class _KernelArrays:
@@ -272,7 +307,7 @@ class _SampleStep:
     :func:`friction_system`).
     """
 
-    def __init__(self, model, dt, mode):
+    def __init__(self, model, dt, mode, takes_load):
         self.model = model
         self.dt = dt
         self.by_position = mode == "x"
@@ -284,10 +319,10 @@ class _SampleStep:
         self.tangent = functions.tangent
         self.size = model.flat_state(self.template).shape[0]
         self.constant_load = float(model.constant_load)
-        self.takes_load = bool(model.uses_normal_load)
+        self.takes_load = takes_load
         # A mounted model steps through its kernel's mounted runner, with the
         # mount's work slots carried in the system state.
-        self.mount = model.mount_array(self.template, True) if _mounted(model) else None
+        self.mount = model.mount_array(self.template, True) if mounted(model) else None
         self.extra = 0 if self.mount is None else len(MOUNT_STATES)
         self.arrays = OrderedDict()
         self.last_key = None
@@ -356,7 +391,7 @@ class _SampleStep:
         mount = None
         if self.mount is not None:
             mount = self.mount.copy()
-            mount[_MOUNT_SLOTS] = xs[self.size:self.size + self.extra]
+            mount[MOUNT_SLOTS] = xs[self.size:self.size + self.extra]
         position, velocity, started = (float(value) for value in xs[self.size + self.extra:])
         if started == 0.0:
             # The first sample: no step before it, the force at the state.
@@ -385,7 +420,7 @@ class _SampleStep:
             force = self._step(scalars, table, flat, mount, displacement, step_velocity, motion,
                                load)
             velocity = motion
-        carried = () if mount is None else mount[_MOUNT_SLOTS]
+        carried = () if mount is None else mount[MOUNT_SLOTS]
         following = np.concatenate((flat, carried, (position, velocity, 1.0)))
         self._remember(following.tobytes(), _KernelArrays(scalars, table, check_load))
         self.last_key = (key, u.tobytes())
