@@ -131,7 +131,8 @@ class FitResult:
         """The ``[fit.result]`` table of a fitted model file (:ref:`formats-fit`).
 
         ``{"rms_error": ..., "holdout_rms_error": ... (with a hold-out),
-        "iterations": ..., "warnings": [...], key: {"value": ...,
+        "iterations": ..., "start": ..., "starts": [{"start": ...,
+        "rms_error": ...}, ...], "warnings": [...], key: {"value": ...,
         "standard_error": ...}, ...}``; a dotted key stays one key
         (``[fit.result."surface.height_std"]`` in TOML).
         """
@@ -139,6 +140,9 @@ class FitResult:
         if self.holdout_rms_error is not None:
             table["holdout_rms_error"] = float(self.holdout_rms_error)
         table["iterations"] = int(self.iterations)
+        table["start"] = self.start_label
+        table["starts"] = [{"start": label, "rms_error": float(rms)}
+                           for label, rms in self.starts]
         table["warnings"] = list(self.warnings)
         for key in self.free:
             table[key] = {"value": self.values[key], "standard_error": self.standard_errors[key]}
