@@ -12,8 +12,9 @@ from polind.models.static import Stribeck
 #: The keys LuGre shares with the Stribeck curve it follows in steady sliding.
 _CURVE_KEYS = ("coulomb_force", "static_force", "stribeck_velocity", "stribeck_exponent",
                "viscous_coefficient")
-#: A bristle stiff enough that the bristle settles within a step: sigma0 times the median
-#: step displacement of the moving samples is this many times the largest level of g.
+#: A bristle stiff enough that the bristle settles within a step: sigma0 times a short step
+#: displacement (the 1st percentile of the moving samples') is this many times the largest
+#: level of g.
 _SETTLING = 50.0
 
 
@@ -95,9 +96,10 @@ class LuGre(FrictionModel):
 
         A fitted Stribeck model lifts to LuGre with its curve, no bristle
         damping and a bristle stiff enough to settle within a step (sigma0
-        times the median step displacement of the moving samples 50 times the
-        larger of Fs and Fc): at every moving sample the force is the
-        Stribeck model's.  (At rest Stribeck gives 0, LuGre holds its bristle.)
+        times a short step displacement -- the 1st percentile of the moving
+        samples' -- 50 times the larger of Fs and Fc): at every moving sample
+        after the first (but the shortest steps) the force is the Stribeck
+        model's.  (At rest Stribeck gives 0, LuGre holds its bristle.)
         """
         contained = tuple(key for key in _CURVE_KEYS if key in free)
         if not contained:
@@ -106,7 +108,7 @@ class LuGre(FrictionModel):
         start = Stribeck(**{key: p[key] for key in _CURVE_KEYS + ("stribeck_shape",)})
         moving = np.abs(path.displacement[1:])
         moving = moving[moving > 0.0]
-        step = float(np.median(moving)) if moving.size else 1.0
+        step = float(np.percentile(moving, 1.0)) if moving.size else 1.0
 
         def lift(fitted):
             q = fitted.params
