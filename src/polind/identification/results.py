@@ -221,9 +221,10 @@ def _fit_warnings(model, frees, values, errors, success, message, fixed) -> list
             name = f"{free.key}[{index}]" if several else free.key
             if index < still.size and still[index]:
                 notes.append(f"The '{name}' parameter of {model.type} does not move the force "
-                             f"at its start {entry:.6g} (its column of the Jacobian is zero "
-                             "there): it is not identifiable from these data and was fixed "
-                             "at that value, not iterated on.")
+                             f"at the start of the fit kept ({entry:.6g}; its column of the "
+                             "Jacobian is zero there and where the fit ended): it is not "
+                             "identifiable from there and was fixed at that value, not "
+                             "iterated on.")
                 continue
             for side, bound, origin in (("lower", free.low, free.low_origin),
                                         ("upper", free.high, free.high_origin)):

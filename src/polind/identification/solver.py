@@ -169,23 +169,47 @@ class _Problem:
         return np.column_stack(out) if out else np.zeros((base.size, 0))
 
     def solve(self, label: str, u0: np.ndarray) -> _LocalFit | None:
-        """The fit from ``u0`` (None if the model rejects that start)."""
-        from scipy.optimize import least_squares
+        """The fit from ``u0`` (None if the model rejects that start).
 
+        The values whose Jacobian column is zero at ``u0`` are fixed there.  Where
+        the solution has given one of them a column again (GMS's Stribeck velocity
+        once a start with ``Fs = Fc`` has moved them apart), the fit goes on from
+        the solution with it free (once).
+        """
         base = self.evaluate(u0)
         if base is None:
             return None
         first = self.jacobian(u0, base, range(u0.size))
         fixed = np.linalg.norm(first, axis=0) <= self.still
-        active = np.flatnonzero(~fixed)
-        if active.size == 0:
+        if fixed.all():
             return _LocalFit(label, u0, float(base @ base), first, 0, True,
                              "no free value moves the force", fixed)
+        u, residual, jac, iterations, success, message = self._solve_active(
+            u0, base, np.flatnonzero(~fixed), first[:, ~fixed])
+        if fixed.any() and not fixed.all():
+            still = np.flatnonzero(fixed)
+            revived = np.linalg.norm(self.jacobian(u, residual, still), axis=0) > self.still
+            if revived.any():
+                fixed[still[revived]] = False
+                u, residual, jac, more, success, message = self._solve_active(
+                    u, residual, np.flatnonzero(~fixed), None)
+                iterations += more
+        full = np.zeros((base.size, u0.size))
+        full[:, ~fixed] = jac
+        return _LocalFit(label, u, float(residual @ residual), full, iterations, success,
+                         message, fixed)
+
+    def _solve_active(self, u0, base, active, first):
+        """``least_squares`` over the variables ``active`` from ``u0`` (residual ``base``;
+        ``first``: the Jacobian's active columns there, or None).  Returns ``(u, residual,
+        jac, iterations, success, message)``."""
+        from scipy.optimize import least_squares
+
         # The solver's variables are 1 + u (u = u0 at the start): its first trust radius is
         # |x0|, and x0 stays away from 0 where scipy's relative steps would vanish.
         x0 = u0[active] + 1.0
         last = {"x": x0.copy(), "residual": base}
-        pending = {"jac": first[:, active]}       # the Jacobian at x0, computed above
+        pending = {"jac": first}                 # the Jacobian at x0, if computed already
 
         def unpack(x):
             u = u0.copy()
@@ -213,11 +237,8 @@ class _Problem:
                                  method="trf", x_scale=settings.x_scale,
                                  ftol=settings.tolerance, xtol=settings.tolerance,
                                  gtol=settings.tolerance, max_nfev=settings.max_evaluations)
-        jac = np.zeros((base.size, u0.size))
-        jac[:, active] = solution.jac
-        return _LocalFit(label, unpack(solution.x), float(solution.fun @ solution.fun), jac,
-                         int(solution.njev or 0), solution.status > 0, str(solution.message),
-                         fixed)
+        return (unpack(solution.x), solution.fun, solution.jac, int(solution.njev or 0),
+                solution.status > 0, str(solution.message))
 
 
 def _fit_from_starts(start, keys, bounds, frees, measured, settings, counter, *, starts,
