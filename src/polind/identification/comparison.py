@@ -130,7 +130,7 @@ class Comparison:
         Three panels a row: the whole record against time, a window around
         the start of the held-out part (the middle of the record without a
         hold-out) against time, and force against position.  The colours
-        are the same in every row (:data:`COLOURS`): measured black, the
+        are the same in every row (:data:`polind.identification.COLOURS`): measured black, the
         prediction on the fitted part blue, on the held-out part red; the
         held-out time span is shaded.
         """

@@ -38,9 +38,9 @@ import numpy as np
 __all__ = ["SLIDING_LEVEL", "BREAKAWAY_LEVEL", "RUNS_Z", "RUNS_SHARE", "HOLDOUT_RATIO",
            "runs_test", "credibility_warnings"]
 
-#: The sliding level may exceed the largest measured |F| by this factor without a warning.
+#: The sliding level may exceed the largest measured ``|F|`` by this factor without a warning.
 SLIDING_LEVEL = 1.05
-#: The break-away level may exceed the largest measured |F| by this factor without a warning.
+#: The break-away level may exceed the largest measured ``|F|`` by this factor and not warn.
 BREAKAWAY_LEVEL = 1.5
 #: The runs test's z-score below which (together with RUNS_SHARE) the residuals have structure.
 RUNS_Z = -3.0
