@@ -81,8 +81,9 @@ model does not use, a start outside the default bounds, a solver that
 stopped early; and whether the fit as a whole is credible: a force level
 beyond the largest measured force, residuals with structure (a runs test), a
 held-out error far above the in-sample one.  ``holdout=F`` fits the first
-``1 - F`` of the record and scores the prediction of the rest.  The columns of the finite-difference
-Jacobian run on threads (the numba kernels release the GIL).
+``1 - F`` of the record and scores the prediction of the rest.  The columns of
+the finite-difference Jacobian run on threads (the numba kernels release the
+GIL).
 
 Comparing models
 ----------------

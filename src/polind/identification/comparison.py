@@ -130,9 +130,9 @@ class Comparison:
         Three panels a row: the whole record against time, a window around
         the start of the held-out part (the middle of the record without a
         hold-out) against time, and force against position.  The colours
-        are the same in every row (:data:`polind.identification.COLOURS`): measured black, the
-        prediction on the fitted part blue, on the held-out part red; the
-        held-out time span is shaded.
+        are the same in every row (:data:`polind.identification.COLOURS`):
+        measured black, the prediction on the fitted part blue, on the
+        held-out part red; the held-out time span is shaded.
         """
         from matplotlib.backends.backend_agg import FigureCanvasAgg
         from matplotlib.figure import Figure
@@ -308,10 +308,10 @@ def compare(models, data, holdout=None, *, progress=None, **options) -> Comparis
     True
     """
     items = _labelled(models)
-    starts = {}
+    parsed = {}
     for label, model in items:
         try:
-            starts[label] = parse_fit(model)
+            parsed[label] = parse_fit(model)
         except InputError as error:
             raise InputError(f"model '{label}': {error}") from None
     record = measured_data(data)
@@ -319,8 +319,8 @@ def compare(models, data, holdout=None, *, progress=None, **options) -> Comparis
     fitted_path = (record if fitted_samples is None else record.head(fitted_samples)).path()
     documents = dict(items)
     results = {}
-    for done, label in enumerate(_fit_order(starts), start=1):
-        start, keys, _ = starts[label]
+    for done, label in enumerate(_fit_order(parsed), start=1):
+        start, keys, _ = parsed[label]
         extra = _contained_rows(start, keys, results, fitted_path)
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
@@ -343,9 +343,12 @@ def compare(models, data, holdout=None, *, progress=None, **options) -> Comparis
                       t=record.t, x=path.x, force=record.force)
 
 
-def _fit_order(starts: dict) -> list[str]:
-    """The labels in the order to fit them: a model that contains another row's model after it."""
-    kinds = {label: type(start) for label, (start, _, _) in starts.items()}
+def _fit_order(parsed: dict) -> list[str]:
+    """The labels in the order to fit them: a model that contains another row's model after it.
+
+    ``parsed``: label -> ``(start, free keys, bounds)`` as :func:`parse_fit` gives them.
+    """
+    kinds = {label: type(start) for label, (start, _, _) in parsed.items()}
 
     def waits(label):
         kind = kinds[label].contains()

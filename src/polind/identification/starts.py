@@ -127,9 +127,9 @@ def starting_points(start: FrictionModel, keys: list[str], frees: list[FreeParam
         seen.append(u)
         return True
 
-    for label, make in entries:
-        u = np.zeros(sum(f.size for f in frees)) if label == GIVEN_START else _projected(frees,
-                                                                                          make)
+    for index, (label, make) in enumerate(entries):
+        # The model's values are the origin of the variables: u = 0.
+        u = np.zeros(sum(f.size for f in frees)) if index == 0 else _projected(frees, make)
         if new(u):
             yield label, u
     for index, u in enumerate(spread_points(frees, spread), start=1):

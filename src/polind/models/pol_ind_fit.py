@@ -67,7 +67,8 @@ def structured_starts(model, path, force, free) -> dict:
             own = _mean_slip(elements["stiffness"], mu * load * np.asarray(elements["weight"]))
             wanted = _mean_slip(q["stiffness"], q["breakaway_force"])
             if math.isfinite(own) and own > 0.0 and math.isfinite(wanted):
-                changes["surface"] = {**surface, "height_std": surface["height_std"] * wanted / own}
+                scaled = surface["height_std"] * wanted / own
+                changes["surface"] = {**surface, "height_std": scaled}
                 levelled = model.with_params(**changes)
                 levelled.gms_parameters()           # a surface that carries the load
     except InputError:
