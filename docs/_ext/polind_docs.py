@@ -414,7 +414,7 @@ MODULES = (
     ("Files, systems and resources", ("polind.io", "polind.dynamics", "polind.resources",
                                       "polind.validation")),
     ("Models and their parameters", ("polind.models", "polind.models.params",
-                                     "polind.models.pol_ind")),
+                                     "polind.models.pol_ind", "polind.models.pol_ind_fit")),
     ("Identification and comparison", ("polind.identification",)),
     ("The demo", ("polind.phenomena", "polind.demo", "polind.report")),
     ("Contact mechanics, module by module", ("polind.contact.materials",
