@@ -183,6 +183,96 @@ def test_a_parameter_the_data_push_past_a_bound_is_reported_with_the_bound():
                "[fit.bounds])" in note for note in fit.warnings), fit.warnings
 
 
+# --- is the fit as a whole credible? ----------------------------------------------------------
+
+def test_runs_test_by_hand():
+    from polind.identification import runs_test
+
+    # + + - - + : 3 runs of 3 positive and 2 negative signs (zeros left out).
+    runs, expected, z = runs_test([0.3, 1.0, 0.0, -2.0, -0.1, 4.0])
+    mu = 2 * 3 * 2 / 5 + 1
+    assert runs == 3 and expected == pytest.approx(mu, rel=1e-15)
+    assert z == pytest.approx((3 - mu) / math.sqrt((mu - 1) * (mu - 2) / 4), rel=1e-12)
+    assert runs_test(np.ones(10)) == (1, 1.0, -math.inf)        # no change of sign at all
+    # Alternating signs: every sample a run, far more than independent noise gives.
+    runs, expected, z = runs_test((-1.0) ** np.arange(101))
+    assert runs == 101 and z > 9
+    # Independent noise: z is a standard normal variable.
+    zs = [runs_test(np.random.default_rng(seed).standard_normal(500))[2] for seed in range(200)]
+    assert abs(np.mean(zs)) < 0.25 and 0.8 < np.std(zs) < 1.2
+
+
+def coulomb_record(level=2.0, noise=0.01):
+    t, x = strokes(801)
+    sign = np.sign(np.diff(x, prepend=x[0] - (x[1] - x[0])))
+    force = level * sign + noise * np.random.default_rng(4).standard_normal(t.size)
+    return {"t": t, "x": x, "F": force}
+
+
+def test_a_force_level_beyond_the_data_is_warned_about():
+    data = coulomb_record()                                   # max |F| about 2.03 N
+    largest = float(np.max(np.abs(data["F"])))
+    # A sliding level held at 3 N by its bounds: 1.48 times the data's.
+    fit = quiet(identify, model({"type": "coulomb", "coulomb_force": 4.0}), data,
+                bounds={"coulomb_force": [3.0, 5.0]})
+    notes = [note for note in fit.warnings if "force level" in note]
+    assert len(notes) == 1 and notes[0].startswith("The sliding force level of the fitted "
+                                                   "coulomb model, 3 N, is ")
+    assert f"({largest:.4g} N; warned above 1.05 times)" in notes[0]
+    # A break-away level of 4 N (1.97 times) that the data never reach: warned; the
+    # sliding level the data chose is not.  At 2.5 N (1.23 times) the break-away level is
+    # within its margin.
+    for static, warned in ((4.0, True), (2.5, False)):
+        start = model({"type": "stribeck", "coulomb_force": 1.0, "static_force": static,
+                       "stribeck_velocity": 1e-6})
+        fit = quiet(identify, start, data, free=["coulomb_force"])
+        assert fit.values["coulomb_force"] == pytest.approx(2.0, rel=0.01)
+        notes = [note for note in fit.warnings if "force level" in note]
+        assert notes == ([f"The break-away force level of the fitted stribeck model, "
+                          f"{static:.4g} N, is {static / largest:.3g} times the largest "
+                          f"measured |F| ({largest:.4g} N; warned above 1.5 times): the data "
+                          "did not choose it. Bound the force levels, or fit data that reach "
+                          "them."] if warned else []), fit.warnings
+    # Under a measured load the levels are those at the largest load: with a reference
+    # load of 20 N, Fc = 4 N stands for 2 N under 10 N (which the data show), for 2.4 N
+    # (1.18 times) under a load that reaches 12 N.
+    from polind.identification.credibility import credibility_warnings
+    from polind.identification.data import MeasuredData
+
+    scaled = model({"type": "coulomb", "coulomb_force": 4.0, "reference_load": 20.0})
+    for peak, warned in ((10.0, False), (12.0, True)):
+        load = np.full(data["t"].size, 10.0)
+        load[-1] = peak
+        record = MeasuredData(t=data["t"], force=data["F"], x=data["x"], v=None,
+                              normal_load=load)
+        notes = credibility_warnings(scaled, record, np.zeros(load.size))
+        assert bool(notes) == warned, notes
+        assert not warned or f"model, {4.0 * peak / 20.0:.4g} N" in notes[0]
+
+
+def test_residuals_with_structure_are_warned_about():
+    truth = model({"type": "dahl", "stiffness": 1e4, "coulomb_force": 1.0})
+    t, x = strokes(801, amplitude=2e-4)
+    force = polind.simulate(truth, t, x=x).force
+    data = {"t": t, "x": x, "F": force + 0.01 * np.random.default_rng(6).standard_normal(t.size)}
+    # Coulomb cannot follow Dahl's presliding rise: its residuals keep their sign for a
+    # whole rise after each reversal.
+    fit = quiet(identify, model({"type": "coulomb", "coulomb_force": 0.5}), data)
+    (note,) = [note for note in fit.warnings if "residuals" in note]
+    runs, expected, z = polind.identification.runs_test(fit.force - data["F"])
+    assert note.startswith(f"The residuals of the fitted coulomb model have structure: their "
+                           f"signs change {runs - 1} times where independent noise would "
+                           f"change about {expected - 1:.0f} times (runs test z = {z:.3g};")
+    assert z < -3 and runs < 0.5 * expected
+    # The model the data came from leaves noise: no warning.
+    fit = quiet(identify, truth.with_params(stiffness=3e3), data)
+    assert not any("residuals" in note for note in fit.warnings), fit.warnings
+    # A fit exact to rounding is not tested.
+    exact = {**data, "F": force}
+    fit = quiet(identify, truth.with_params(stiffness=3e3), exact)
+    assert fit.rms_error < 1e-9 and fit.warnings == ()
+
+
 # --- data frames and signals the model ignores ---------------------------------------------------
 
 class Frame:
@@ -261,6 +351,19 @@ def test_holdout_rms_is_the_error_on_the_samples_after_the_split():
     assert fit.holdout_rms_error == pytest.approx(expected, rel=1e-9)
     assert fit.to_fit_table()["holdout_rms_error"] == fit.holdout_rms_error
     assert fit.force.shape == t.shape
+    # A held-out error far above the in-sample one (here: a force that changed) is a
+    # warning; with noise of 0.4 N in the fitted part only, the ratio (held out 1 N or so
+    # against 0.4 N) passes 1.5 as well, and at a noise of 1 N it does not.
+    assert any(note.startswith("The held-out RMS error of the fitted coulomb model, "
+                               f"{fit.holdout_rms_error:.4g} N, is ") for note in fit.warnings)
+    for noise, warned in ((0.4, True), (1.0, False)):
+        noisy = force + noise * np.where(np.arange(t.size) < split, 1.0, 0.0) * (
+            -1.0) ** np.arange(t.size)
+        fit = quiet(identify, model({"type": "coulomb", "coulomb_force": 1.0}),
+                    {"t": t, "x": x, "F": noisy}, holdout=0.3)
+        ratio = fit.holdout_rms_error / fit.rms_error
+        assert (ratio > 1.5) == warned, ratio
+        assert any("held-out RMS error" in note for note in fit.warnings) == warned
 
 
 def test_holdout_prediction_continues_the_fitted_run_from_its_state():

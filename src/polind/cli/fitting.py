@@ -19,6 +19,16 @@ def _holdout_option(command):
                              "error on the rest.")(command)
 
 
+def _starts_option(command):
+    return click.option("--starts", "starts", default=None, metavar="N",
+                        type=click.IntRange(min=1),
+                        help="Fit from N starting points and keep the best: the model's values, "
+                             "then the fit of the model it contains, its structured starts and "
+                             "Latin-hypercube points in the bounds. Default: all of the model's "
+                             "own starts and 2 spread points; 1: the model's values "
+                             "only.")(command)
+
+
 @cli.command()
 @model_argument
 @click.option("--data", "-d", "data_path", required=True, type=file_path(), metavar="DATA.csv",
@@ -27,15 +37,17 @@ def _holdout_option(command):
 @click.option("--plot", "plot_path", default=None, type=file_path(), metavar="FILE",
               help="Also write a PNG of measured against fitted force.")
 @_holdout_option
-def fit(model_path, data_path, output_path, plot_path, holdout):
+@_starts_option
+def fit(model_path, data_path, output_path, plot_path, holdout, starts):
     """Identify the [fit] free parameters of MODEL from measured data.
 
     The model's values are the starting point; [fit] free names the keys to
     identify and [fit.bounds] bounds them (without bounds a key gets default
-    bounds derived from the data).  Writes FITTED.toml: [model] with the
+    bounds derived from the data).  The fit starts from several points and
+    keeps the best (--starts).  Writes FITTED.toml: [model] with the
     identified values and [fit.result] (rms_error, holdout_rms_error with
-    --holdout, iterations, warnings, value and standard error of every free
-    key).  Each warning is also one line on standard error.
+    --holdout, iterations, start, starts, warnings, value and standard error
+    of every free key).  Each warning is also one line on standard error.
     """
     from polind import identification, io
     from polind.models import read_model_document
@@ -56,7 +68,7 @@ def fit(model_path, data_path, output_path, plot_path, holdout):
         with blame(data_path):
             # The fit's warnings reach standard error as UserWarnings, one line each (main).
             result = identification.identify(model, data, free=free, bounds=bounds,
-                                             holdout=holdout, callback=advance)
+                                             holdout=holdout, starts=starts, callback=advance)
     if plot_path is not None:
         identification.plot_fit(data, result, plot_path)
     io.write_model_file(output_path, result.to_document())
@@ -78,7 +90,8 @@ def fit(model_path, data_path, output_path, plot_path, holdout):
               metavar="TABLE.csv", help="Also write the table as CSV ('-': standard output).")
 @click.option("--plot", "plot_path", default=None, type=file_path(), metavar="PNG",
               help="Also write a PNG of measured and predicted force of every model.")
-def compare(model_paths, data_path, holdout, output_path, plot_path):
+@_starts_option
+def compare(model_paths, data_path, holdout, output_path, plot_path, starts):
     """Fit each MODEL to the same data and compare them: one row per model.
 
     Each model file's values are its starting point and its [fit] table its
@@ -86,8 +99,10 @@ def compare(model_paths, data_path, holdout, output_path, plot_path):
     data).  The table: model (the file's name), free parameters (count),
     RMS error in sample and on the held-out part (--holdout F: the last F of
     the samples, predicted by continuing each fitted run), AIC and BIC of
-    the fitted part (n ln(RSS/n) + 2k and + k ln n).  --plot draws measured
-    and predicted force against time and position, the held-out part shaded.
+    the fitted part (n ln(RSS/n) + 2k and + k ln n).  A model that contains
+    another given model (GMS contains Maxwell-slip, LuGre Stribeck) also
+    starts from that model's fit.  --plot draws measured and predicted force
+    against time and position, the held-out part shaded.
     """
     from polind import identification, io
     from polind.models import read_model_document
@@ -113,7 +128,7 @@ def compare(model_paths, data_path, holdout, output_path, plot_path):
 
         with blame(data_path):
             table = identification.compare(documents, data, holdout=holdout,
-                                           progress=advance)
+                                           progress=advance, starts=starts)
     # With an output on standard output ('-'), the readable text goes to standard error.
     written = [os.fspath(path) for path in (output_path, plot_path) if path is not None]
     streamed = io.STDOUT in written

@@ -60,6 +60,16 @@ mapping (the delta method).  A direction the data cannot determine (``J``
 rank-deficient) gives an infinite standard error to every parameter it
 involves.
 
+Several starts (:ref:`guide-fit-starts`)
+----------------------------------------
+:func:`identify` fits from the model's values, from the fit of the special case
+the model contains (:meth:`polind.FrictionModel.special_case`), from the model's
+structured starts (:meth:`polind.FrictionModel.structured_starts`) and from
+:data:`DEFAULT_SPREAD_STARTS` Latin-hypercube points in the bounds, and keeps the
+fit with the smallest sum of squares in sample (``starts=N`` sets the number).
+A free value whose Jacobian column is zero at a start cannot move the force
+there: it is fixed at that start, not iterated on, and reported.
+
 Safe fits (:ref:`guide-fit-warnings`)
 -------------------------------------
 A free key without ``[fit.bounds]`` gets default bounds derived from the
@@ -68,9 +78,12 @@ documentation's file formats page), never an unbounded range.  Every fit lists i
 parameter that ended at a bound, one the data do not determine (standard
 error larger than its value, or not finite), a data column or signal the
 model does not use, a start outside the default bounds, a solver that
-stopped early.  ``holdout=F`` fits the first ``1 - F`` of the record and
-scores the prediction of the rest.  The columns of the finite-difference
-Jacobian run on threads (the numba kernels release the GIL).
+stopped early; and whether the fit as a whole is credible: a force level
+beyond the largest measured force, residuals with structure (a runs test), a
+held-out error far above the in-sample one.  ``holdout=F`` fits the first
+``1 - F`` of the record and scores the prediction of the rest.  The columns of
+the finite-difference Jacobian run on threads (the numba kernels release the
+GIL).
 
 Comparing models
 ----------------
@@ -88,8 +101,15 @@ One idea each; everything public is imported here:
 * ``data`` -- the measured data, their checks and the hold-out split;
 * ``parameters`` -- free keys, bounds (default ones from the data) and the
   optimiser's variables;
-* ``solver`` -- :func:`identify`, the least-squares solve and its threads;
+* ``starts`` -- where the fits start (:ref:`guide-fit-starts`): the model's
+  values, the fit of the special case it contains, its structured starts,
+  Latin-hypercube points (:func:`spread_points`);
+* ``solver`` -- :func:`identify`: the least-squares solve from every start, a
+  free value that cannot move the force fixed (:data:`STILL_COLUMN`), its threads;
 * ``results`` -- :class:`polind.FitResult`, its standard errors and warnings;
+* ``credibility`` -- the warnings on a fit as a whole (:ref:`guide-fit-warnings`):
+  a force level beyond the data, residuals with structure (:func:`runs_test`), a
+  held-out error far above the in-sample one;
 * ``memory`` -- the memory a fit holds per sample;
 * ``structure`` -- the structured fits :func:`identify_maxwell_slip`,
   :func:`identify_gms` and :func:`identify_stribeck`, which check the data and call
@@ -100,18 +120,24 @@ One idea each; everything public is imported here:
 * ``plot`` -- :func:`plot_fit`.
 """
 
-from polind.identification.comparison import COLUMNS, Comparison, compare
+from polind.identification.comparison import COLOURS, COLUMNS, Comparison, compare
+from polind.identification.credibility import (BREAKAWAY_LEVEL, HOLDOUT_RATIO, RUNS_SHARE, RUNS_Z,
+                                               SLIDING_LEVEL, runs_test)
 from polind.identification.data import MeasuredData, holdout_split, measured_data
 from polind.identification.memory import fit_bytes_per_sample
 from polind.identification.parameters import (DEFAULT_RANGES, UNSCALED_RANGE, default_bounds,
                                               fittable_keys, parse_fit)
 from polind.identification.plot import plot_fit
 from polind.identification.results import FitResult
-from polind.identification.solver import identify
+from polind.identification.solver import STILL_COLUMN, identify
+from polind.identification.starts import DEFAULT_SPREAD_STARTS, SPREAD_SPAN, spread_points
 from polind.identification.structure import (identify_gms, identify_maxwell_slip,
                                               identify_stribeck)
 
 __all__ = ["FitResult", "identify", "parse_fit", "default_bounds", "identify_maxwell_slip",
            "identify_gms", "identify_stribeck", "plot_fit", "fit_bytes_per_sample",
            "fittable_keys", "measured_data", "MeasuredData", "holdout_split", "DEFAULT_RANGES",
-           "UNSCALED_RANGE", "COLUMNS", "Comparison", "compare"]
+           "UNSCALED_RANGE", "COLUMNS", "COLOURS", "Comparison", "compare",
+           "DEFAULT_SPREAD_STARTS", "SPREAD_SPAN", "spread_points", "STILL_COLUMN",
+           "SLIDING_LEVEL", "BREAKAWAY_LEVEL", "RUNS_Z", "RUNS_SHARE", "HOLDOUT_RATIO",
+           "runs_test"]

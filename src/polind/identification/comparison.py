@@ -44,11 +44,14 @@ from polind.identification.results import FitResult
 from polind.identification.solver import identify
 from polind.models import FrictionModel
 
-__all__ = ["COLUMNS", "Comparison", "compare"]
+__all__ = ["COLUMNS", "COLOURS", "Comparison", "compare"]
 
 #: The columns of the comparison table (``polind compare --output``), in order.
 COLUMNS = ("model", "free_parameters", "rms_in_sample", "rms_held_out", "aic", "bic")
 _HEADINGS = ("model", "free", "RMS in sample [N]", "RMS held out [N]", "AIC", "BIC")
+#: The figure's colours, the same in every row: measured, predicted on the fitted part,
+#: predicted on the held-out part.
+COLOURS = {"measured": "black", "fitted": "C0", "held out": "C3"}
 
 
 @dataclass(frozen=True)
@@ -126,9 +129,10 @@ class Comparison:
 
         Three panels a row: the whole record against time, a window around
         the start of the held-out part (the middle of the record without a
-        hold-out) against time, and force against position, the held-out
-        part of the prediction in its own colour.  The held-out time span
-        is shaded.
+        hold-out) against time, and force against position.  The colours
+        are the same in every row (:data:`polind.identification.COLOURS`):
+        measured black, the prediction on the fitted part blue, on the
+        held-out part red; the held-out time span is shaded.
         """
         from matplotlib.backends.backend_agg import FigureCanvasAgg
         from matplotlib.figure import Figure
@@ -144,13 +148,22 @@ class Comparison:
         FigureCanvasAgg(figure)
         axes = np.atleast_2d(figure.subplots(rows, 3, width_ratios=(1.4, 1.0, 1.0),
                                              squeeze=False))
+        fitted, held_out_part = slice(None, split), slice(max(split - 1, 0), None)
         for line, (row, (label, result)) in enumerate(zip(self.rows, self.results.items())):
             predicted = result.force
-            colour = f"C{line % 10}"
             whole, zoom, against_x = axes[line]
             for panel, mask in ((whole, slice(None)), (zoom, window)):
-                panel.plot(t[mask], self.force[mask], color="black", lw=0.9, label="measured")
-                panel.plot(t[mask], predicted[mask], color=colour, lw=0.9, label="predicted")
+                panel.plot(t[mask], self.force[mask], color=COLOURS["measured"], lw=0.9,
+                           label="measured")
+                shown = np.zeros(t.shape[0], dtype=bool)
+                shown[mask] = True
+                for part, name in ((fitted, "fitted"), (held_out_part, "held out")):
+                    if part is held_out_part and not held:
+                        continue
+                    inside = np.flatnonzero(shown[part]) + (part.start or 0)
+                    if inside.size:
+                        panel.plot(t[inside], predicted[inside], color=COLOURS[name], lw=0.9,
+                                   label=f"predicted, {name}" if held else "predicted")
                 if held:
                     panel.axvspan(t[split], t[-1], color="0.5", alpha=0.15, lw=0,
                                   label="held out (not fitted)")
@@ -158,11 +171,11 @@ class Comparison:
             zoom.set_xlim(t[window][0], t[window][-1])
             against_x.plot(position, self.force, color="0.35", lw=0.5, alpha=0.6,
                            label="measured")
-            against_x.plot(position[:split], predicted[:split], color=colour, lw=0.8,
-                           label="predicted, fitted part")
+            against_x.plot(position[fitted], predicted[fitted], color=COLOURS["fitted"], lw=0.8,
+                           label="predicted, fitted" if held else "predicted")
             if held:
-                against_x.plot(position[split - 1:], predicted[split - 1:], color="C3"
-                               if colour != "C3" else "C1", lw=0.8, alpha=0.8,
+                against_x.plot(position[held_out_part], predicted[held_out_part],
+                               color=COLOURS["held out"], lw=0.8, alpha=0.8,
                                label="predicted, held out")
             against_x.set(xlabel="position x [mm]", ylabel="friction force F [N]")
             held_out = ("" if row["rms_held_out"] is None
@@ -212,9 +225,21 @@ def _labelled(models) -> list[tuple[str, object]]:
     return out
 
 
+def _is_model(value) -> bool:
+    """A model, or a model document (a mapping with a ``model`` table)."""
+    return isinstance(value, FrictionModel) or (isinstance(value, Mapping)
+                                                and isinstance(value.get("model"), Mapping))
+
+
 def _is_labelled(models) -> bool:
-    """A mapping of labels to models, not one model document ({"model": ..., "fit": ...})."""
-    return isinstance(models, Mapping) and "model" not in models
+    """A mapping of labels to models, not one model document ({"model": ..., "fit": ...}).
+
+    A document's values are its tables (``[model]``, ``[fit]``), never models or
+    documents; a mapping of labels holds only models or documents.  So a row
+    labelled ``model`` (a file ``model.toml``) is still a row.
+    """
+    return (isinstance(models, Mapping) and bool(models)
+            and all(_is_model(value) for value in models.values()))
 
 
 def _document_type(document) -> str:
@@ -230,8 +255,13 @@ def compare(models, data, holdout=None, *, progress=None, **options) -> Comparis
     and bounds (a document's ``[fit]`` table, else the model's
     ``fit_defaults`` and the default bounds) on the first ``1 - holdout`` of
     the samples; the held-out rest is predicted by continuing each fitted
-    model's run.  AIC and BIC are those of the fitted part (module
-    docstring): ``n ln(RSS / n) + 2 k`` and ``n ln(RSS / n) + k ln n``.
+    model's run.  A model that contains another row's model as a special
+    case (:meth:`polind.FrictionModel.contains`: GMS contains Maxwell-slip,
+    LuGre Stribeck) is fitted after it and starts from that row's fit too
+    (``extra_starts``), so it never ends worse in sample than that row where
+    its free keys and element count can reproduce it.  AIC and BIC are
+    those of the fitted part (module docstring): ``n ln(RSS / n) + 2 k`` and
+    ``n ln(RSS / n) + k ln n``.
 
     Parameters
     ----------
@@ -247,7 +277,8 @@ def compare(models, data, holdout=None, *, progress=None, **options) -> Comparis
     progress : callable, optional
         ``progress(done, total, label)`` after each model's fit.
     **options
-        Passed to :func:`polind.identify` (``max_evaluations``, ``workers``, ...).
+        Passed to :func:`polind.identify` (``starts``, ``max_evaluations``,
+        ``workers``, ...).
 
     Returns
     -------
@@ -277,32 +308,73 @@ def compare(models, data, holdout=None, *, progress=None, **options) -> Comparis
     True
     """
     items = _labelled(models)
+    parsed = {}
     for label, model in items:
         try:
-            parse_fit(model)
+            parsed[label] = parse_fit(model)
         except InputError as error:
             raise InputError(f"model '{label}': {error}") from None
     record = measured_data(data)
     fitted_samples = holdout_split(holdout, record.size)
-    results, rows = {}, []
-    for done, (label, model) in enumerate(items, start=1):
+    fitted_path = (record if fitted_samples is None else record.head(fitted_samples)).path()
+    documents = dict(items)
+    results = {}
+    for done, label in enumerate(_fit_order(parsed), start=1):
+        start, keys, _ = parsed[label]
+        extra = _contained_rows(start, keys, results, fitted_path)
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             try:
-                result = identify(model, data, holdout=holdout, **options)
+                result = identify(documents[label], data, holdout=holdout,
+                                  extra_starts=extra or None, **options)
             except InputError as error:
                 raise InputError(f"model '{label}': {error}") from None
         for warning in caught:
             warnings.warn(f"{label}: {warning.message}", warning.category, stacklevel=2)
         results[label] = result
-        rows.append(_row(label, result))
         if progress is not None:
             progress(done, len(items), label)
+    results = {label: results[label] for label, _ in items}
+    rows = [_row(label, result) for label, result in results.items()]
     path = record.path()
     return Comparison(rows=tuple(rows), results=results,
                       holdout=None if holdout is None else float(holdout),
                       fitted_samples=record.size if fitted_samples is None else fitted_samples,
                       t=record.t, x=path.x, force=record.force)
+
+
+def _fit_order(parsed: dict) -> list[str]:
+    """The labels in the order to fit them: a model that contains another row's model after it.
+
+    ``parsed``: label -> ``(start, free keys, bounds)`` as :func:`parse_fit` gives them.
+    """
+    kinds = {label: type(start) for label, (start, _, _) in parsed.items()}
+
+    def waits(label):
+        kind = kinds[label].contains()
+        return kind is not None and kind is not kinds[label] and any(
+            kinds[other] is kind for other in kinds if other != label)
+
+    return ([label for label in kinds if not waits(label)]
+            + [label for label in kinds if waits(label)])
+
+
+def _contained_rows(start, keys, results: dict, path) -> dict:
+    """Starts lifted from the fitted rows whose model ``start`` contains as a special case."""
+    try:
+        case = start.special_case(list(keys), path)
+    except InputError:
+        return {}
+    if case is None or case.kind is type(start):
+        return {}
+    extra = {}
+    for label, result in results.items():
+        if type(result.model) is case.kind:
+            try:
+                extra[f"the fitted '{label}' row"] = case.lift(result.model)
+            except InputError:
+                continue
+    return extra
 
 
 def _row(label: str, result: FitResult) -> dict:

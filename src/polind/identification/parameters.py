@@ -27,7 +27,8 @@ from polind.models.params import Param, Table
 from polind.validation import describe
 
 __all__ = ["DEFAULT_RANGES", "UNSCALED_RANGE", "FreeParameter", "parse_fit", "default_bounds",
-           "fittable_keys", "param_value", "build_free", "split_variables", "model_at"]
+           "fittable_keys", "param_value", "build_free", "split_variables", "variables_of",
+           "model_at"]
 
 _FIT_KEYS = ("free", "bounds", "result")
 # Linear bounds for the bounded kinds, kept strictly inside the open ends.
@@ -226,6 +227,24 @@ class FreeParameter:
                 low = (self.low - self.start) / self.scale
                 high = (self.high - self.start) / self.scale
         return np.minimum(low, 0.0), np.maximum(high, 0.0)
+
+    def variables(self, value) -> np.ndarray | None:
+        """The optimiser's variables of a physical value (the inverse of :meth:`physical`),
+        clipped into the bounds; None for a value of another shape or that no variables give."""
+        value = np.atleast_1d(np.asarray(value, dtype=np.float64))
+        if value.shape != self.start.shape or not np.all(np.isfinite(value)):
+            return None
+        with np.errstate(divide="ignore", invalid="ignore"):
+            if self.mapping == "log":
+                u = np.log(value / self.start)
+            elif self.mapping == "linear":
+                u = (value - self.start) / self.scale
+            else:
+                u = (np.log(value) - math.log(value[-1])
+                     - (np.log(self.start) - math.log(self.start[-1])))[:-1]
+        low, high = self.internal_bounds()
+        u = np.clip(u, low, high)
+        return u if np.all(np.isfinite(u)) else None
 
     def output(self, values: np.ndarray):
         return [float(v) for v in values] if self.is_list else float(values[0])
@@ -442,6 +461,24 @@ def split_variables(frees: list[FreeParameter], u: np.ndarray) -> list[np.ndarra
         out.append(u[offset:offset + free.size])
         offset += free.size
     return out
+
+
+def variables_of(frees: list[FreeParameter], model: FrictionModel) -> np.ndarray | None:
+    """The optimiser's variables of the free keys' values in ``model`` (None if it has none).
+
+    The other keys of ``model`` play no part: a start is projected onto the free keys.
+    """
+    params = model.params
+    parts = []
+    for free in frees:
+        try:
+            part = free.variables(param_value(params, free.key))
+        except (KeyError, TypeError):
+            return None
+        if part is None:
+            return None
+        parts.append(part)
+    return np.concatenate(parts) if parts else np.zeros(0)
 
 
 def model_at(model: FrictionModel, frees: list[FreeParameter], u: np.ndarray) -> FrictionModel:

@@ -15,7 +15,8 @@ from polind.validation import describe
 __all__ = ["plot_fit"]
 
 
-def _labelled(results) -> list[tuple[str, FrictionModel]]:
+def _labelled(results) -> list[tuple[str, FrictionModel, FitResult | None]]:
+    """``(label, model, its FitResult or None)`` of each item."""
     if isinstance(results, (FitResult, FrictionModel)):
         results = [results]
     items = results.items() if isinstance(results, Mapping) else [(None, r) for r in results]
@@ -24,8 +25,26 @@ def _labelled(results) -> list[tuple[str, FrictionModel]]:
         model = item.model if isinstance(item, FitResult) else item
         if not isinstance(model, FrictionModel):
             raise InputError(f"plot_fit takes FitResults or models. Got {describe(item)} instead.")
-        out.append((label or model.type, model))
+        out.append((label or model.type, model, item if isinstance(item, FitResult) else None))
     return out
+
+
+def _legend(label: str, result: FitResult | None, measured, force) -> str:
+    """The curve's label: a fit's own RMS numbers (as printed), else the RMS over the data."""
+    if result is None:
+        rms = float(np.sqrt(np.mean((force - measured.force) ** 2)))
+        return f"{label} (RMS {rms:.3g} N)"
+    if result.holdout_rms_error is None:
+        return f"{label} (RMS {result.rms_error:.3g} N)"
+    return (f"{label} (RMS {result.rms_error:.3g} N in sample, "
+            f"{result.holdout_rms_error:.3g} N held out)")
+
+
+def _held_out_start(result: FitResult | None, samples: int) -> int | None:
+    """The first held-out sample of a fit with a hold-out on these very samples, else None."""
+    if result is None or result.holdout_rms_error is None or result.force.shape[0] != samples:
+        return None
+    return result.fitted_samples
 
 
 def plot_fit(data, results, path, *, window=None, title=None, dpi=120) -> None:
@@ -34,7 +53,11 @@ def plot_fit(data, results, path, *, window=None, title=None, dpi=120) -> None:
     Three panels: force over the whole record, force over a time window (a
     few strokes, to see the shape), and force against position.  Each model
     is simulated again on ``data``, so results fitted on a decimated record
-    can be drawn against the full one.
+    can be drawn against the full one.  A curve is labelled with its fit's
+    RMS errors as the fit printed them (in sample, and held out with a
+    hold-out; for a bare model, the RMS error over ``data``); the held-out
+    part of a fit with a hold-out on these samples is shaded on the time
+    panels.
 
     Parameters
     ----------
@@ -75,13 +98,20 @@ def plot_fit(data, results, path, *, window=None, title=None, dpi=120) -> None:
     for axes, mask in ((over_time, slice(None)), (zoomed, inside)):
         axes.plot(t[mask], measured.force[mask], color="black", lw=1.6, label="measured")
     against_x.plot(position * 1e3, measured.force, color="black", lw=0.8, label="measured")
-    for label, model in labelled:
+    shaded = set()
+    for label, model, result in labelled:
         force = measured.simulate(model)
-        rms = float(np.sqrt(np.mean((force - measured.force) ** 2)))
-        text = f"{label} (RMS {rms:.3g} N)"
+        text = _legend(label, result, measured, force)
         over_time.plot(t, force, lw=1.0, label=text)
         zoomed.plot(t[inside], force[inside], lw=1.2, label=text)
         against_x.plot(position * 1e3, force, lw=0.8, alpha=0.7, label=text)
+        split = _held_out_start(result, t.shape[0])
+        if split is not None and split not in shaded:
+            shaded.add(split)
+            for axes in (over_time, zoomed):
+                axes.axvspan(t[split], t[-1], color="0.5", alpha=0.15, lw=0,
+                             label="held out (not fitted)")
+    zoomed.set_xlim(t[inside][0], t[inside][-1])
     over_time.set(xlabel="time t [s]", ylabel="friction force F [N]",
                   title=title or "Measured and fitted friction force")
     zoomed.set(xlabel="time t [s]", ylabel="friction force F [N]",
@@ -90,6 +120,7 @@ def plot_fit(data, results, path, *, window=None, title=None, dpi=120) -> None:
                   title="force against position")
     for axes in (over_time, zoomed, against_x):
         axes.grid(alpha=0.3)
+    over_time.legend(loc="best", fontsize=8)
     zoomed.legend(loc="best", fontsize=8)
     against_x.legend(loc="best", fontsize=8)
     buffer = BytesIO()

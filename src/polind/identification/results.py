@@ -13,7 +13,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from polind.identification.credibility import credibility_warnings
 from polind.identification.parameters import split_variables
+from polind.identification.starts import GIVEN_START
 from polind.models import FrictionModel
 
 __all__ = ["FitResult", "fit_result"]
@@ -28,7 +30,8 @@ class FitResult:
     model : FrictionModel
         The model with the identified values.
     start : FrictionModel
-        The starting model.
+        The starting model (the model's values; the fit kept may have started
+        elsewhere: ``start_label``).
     free : tuple of str
         The identified keys (dotted for nested ones).
     bounds : dict
@@ -62,7 +65,16 @@ class FitResult:
         The number of samples fitted (the first ones of the data).
     parameter_count : int
         The number of free values the solver varied (a list key counts its
-        entries; the GMS weights, which sum to 1, one fewer).
+        entries; the GMS weights, which sum to 1, one fewer; a value that
+        could not move the force at its start is fixed and not counted).
+    start_label : str
+        Where the fit kept started (:ref:`guide-fit-starts`): ``"the model's
+        values"``, ``"the fitted maxwell-slip (gms with Fs = Fc)"``, ``"the
+        NNLS element set (GMS.from_presliding)"``, ``"Latin hypercube point 1
+        of 2"``, ...
+    starts : tuple of (str, float)
+        Every start tried and the RMS error in sample [N] its fit reached, in
+        the order tried.
     """
 
     model: FrictionModel
@@ -81,6 +93,8 @@ class FitResult:
     holdout_rms_error: float | None = None
     fitted_samples: int = 0
     parameter_count: int = 0
+    start_label: str = GIVEN_START
+    starts: tuple = ()
 
     def __repr__(self):
         held_out = ("" if self.holdout_rms_error is None
@@ -117,7 +131,8 @@ class FitResult:
         """The ``[fit.result]`` table of a fitted model file (:ref:`formats-fit`).
 
         ``{"rms_error": ..., "holdout_rms_error": ... (with a hold-out),
-        "iterations": ..., "warnings": [...], key: {"value": ...,
+        "iterations": ..., "start": ..., "starts": [{"start": ...,
+        "rms_error": ...}, ...], "warnings": [...], key: {"value": ...,
         "standard_error": ...}, ...}``; a dotted key stays one key
         (``[fit.result."surface.height_std"]`` in TOML).
         """
@@ -125,6 +140,9 @@ class FitResult:
         if self.holdout_rms_error is not None:
             table["holdout_rms_error"] = float(self.holdout_rms_error)
         table["iterations"] = int(self.iterations)
+        table["start"] = self.start_label
+        table["starts"] = [{"start": label, "rms_error": float(rms)}
+                           for label, rms in self.starts]
         table["warnings"] = list(self.warnings)
         for key in self.free:
             table[key] = {"value": self.values[key], "standard_error": self.standard_errors[key]}
@@ -151,7 +169,8 @@ class FitResult:
                     else f", holdout_rms_error = {self.holdout_rms_error:.6g} N")
         lines = [f"{self.model.type}: rms_error = {self.rms_error:.6g} N{held_out}, "
                  f"iterations = {self.iterations}" + ("" if self.success else
-                                                      f" (stopped: {self.message})")]
+                                                      f" (stopped: {self.message})"),
+                 f"  start: {self.start_label} (best of {max(len(self.starts), 1)})"]
         for key in self.free:
             value = np.atleast_1d(self.values[key])
             error = np.atleast_1d(self.standard_errors[key])
@@ -160,10 +179,13 @@ class FitResult:
         return "\n".join(lines)
 
 
-def _standard_errors(frees, u, jac, residual) -> list[np.ndarray]:
-    """Physical standard errors from the Jacobian in the optimiser's variables (delta method)."""
+def _standard_errors(frees, u, jac, residual, varied) -> list[np.ndarray]:
+    """Physical standard errors from the Jacobian in the optimiser's variables (delta method).
+
+    ``varied`` values were varied (the columns of fixed ones are zero: their errors are
+    infinite)."""
     n, p = jac.shape
-    variance = float(residual @ residual) / (n - p)
+    variance = float(residual @ residual) / max(n - varied, 1)
     _, singular, vt = np.linalg.svd(jac, full_matrices=False)
     tol = singular.max(initial=0.0) * max(n, p) * np.finfo(float).eps
     kept = singular > tol
@@ -186,16 +208,24 @@ def _standard_errors(frees, u, jac, residual) -> list[np.ndarray]:
     return out
 
 
-def _fit_warnings(model, frees, values, errors, success, message) -> list[str]:
-    """A parameter at a bound, a parameter the data do not determine, a solver stopped early."""
+def _fit_warnings(model, frees, values, errors, success, message, fixed) -> list[str]:
+    """A parameter at a bound, a parameter the data do not determine, a solver stopped early,
+    a value fixed at its start because it could not move the force there."""
     notes = []
     if not success:
         notes.append(f"The solver stopped before converging ({message}); the values are its "
                      "last iterate. Allow more evaluations or start closer.")
-    for free, value, error in zip(frees, values, errors):
+    for free, value, error, still in zip(frees, values, errors, fixed):
         several = value.size > 1
         for index, (entry, spread) in enumerate(zip(value, error)):
             name = f"{free.key}[{index}]" if several else free.key
+            if index < still.size and still[index]:
+                notes.append(f"The '{name}' parameter of {model.type} does not move the force "
+                             f"at the start of the fit kept ({entry:.6g}; its column of the "
+                             "Jacobian is zero there and where the fit ended): it is not "
+                             "identifiable from there and was fixed at that value, not "
+                             "iterated on.")
+                continue
             for side, bound, origin in (("lower", free.low, free.low_origin),
                                         ("upper", free.high, free.high_origin)):
                 if (free.mapping == "simplex" or not math.isfinite(bound)
@@ -216,7 +246,8 @@ def _fit_warnings(model, frees, values, errors, success, message) -> list[str]:
 
 
 def fit_result(model, start, frees, u, bounds, force, data, iterations, evaluations, success,
-               message, jac=None, notes=(), record=None) -> FitResult:
+               message, jac=None, notes=(), record=None, fixed=None,
+               start_label=GIVEN_START, starts=()) -> FitResult:
     """The :class:`FitResult` of a solution ``u`` of the optimiser's variables.
 
     ``frees`` as ``build_free`` returns
@@ -224,11 +255,15 @@ def fit_result(model, start, frees, u, bounds, force, data, iterations, evaluati
     ``jac`` the Jacobian of the residuals at ``u`` (None: no standard errors
     and no warnings of the solution), ``notes`` the warnings found before the
     solve; with ``record`` (the whole data of a hold-out split) its tail is
-    scored.
+    scored.  ``fixed`` marks the variables fixed at their start (zero
+    columns of ``jac``), ``start_label`` and ``starts`` say where the fit
+    started and what each start reached.
     """
     residual = force - data.force
+    fixed = np.zeros(u.size, dtype=bool) if fixed is None else np.asarray(fixed, dtype=bool)
+    varied = int(u.size - np.count_nonzero(fixed))
     values, standard_errors, physical, spreads = {}, {}, [], []
-    errors = (_standard_errors(frees, u, jac, residual) if jac is not None
+    errors = (_standard_errors(frees, u, jac, residual, varied) if jac is not None
               else [np.full(free.start.size, np.nan) for free in frees])
     for free, part, error in zip(frees, split_variables(frees, u), errors):
         value = free.physical(part)
@@ -238,7 +273,8 @@ def fit_result(model, start, frees, u, bounds, force, data, iterations, evaluati
         spreads.append(error)
     notes = list(notes)
     if jac is not None:
-        notes += _fit_warnings(model, frees, physical, spreads, success, message)
+        notes += _fit_warnings(model, frees, physical, spreads, success, message,
+                               split_variables(frees, fixed))
     held_out = None
     if record is not None:
         # The held-out prediction continues the fitted part: one run over the whole record.
@@ -246,11 +282,13 @@ def fit_result(model, start, frees, u, bounds, force, data, iterations, evaluati
         tail = whole[data.size:] - record.force[data.size:]
         held_out = float(np.sqrt(np.mean(tail ** 2)))
         force = whole
+    notes += credibility_warnings(model, data, residual, held_out)
     return FitResult(model=model, start=start, free=tuple(f.key for f in frees),
                      bounds={key: tuple(pair) for key, pair in bounds.items()}, values=values,
                      standard_errors=standard_errors,
                      rms_error=float(np.sqrt(np.mean(residual ** 2))), iterations=int(iterations),
                      evaluations=int(evaluations), success=bool(success), message=str(message),
                      force=force, warnings=tuple(notes), holdout_rms_error=held_out,
-                     fitted_samples=int(data.size),
-                     parameter_count=int(sum(free.size for free in frees)))
+                     fitted_samples=int(data.size), parameter_count=varied,
+                     start_label=str(start_label),
+                     starts=tuple((str(label), float(rms)) for label, rms in starts))

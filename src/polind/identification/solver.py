@@ -1,12 +1,20 @@
-"""The solver of :func:`identify`: bounded nonlinear least squares on the simulated force.
+"""The solver of :func:`identify`: bounded nonlinear least squares from several starts.
 
 ``scipy.optimize.least_squares`` (trust-region-reflective) on the
-optimiser's variables of :mod:`polind.identification.parameters`.  The
-Jacobian is taken by forward differences of a fixed step in these
-variables, its columns simulated side by side on threads (the numba kernels
-release the GIL).  A trial point whose parameters the model rejects (a load
-its surface cannot carry, say) or where its force is not finite costs a
-large constant residual, so the solver backs off instead of stopping.
+optimiser's variables of :mod:`polind.identification.parameters`, from each
+starting point of :mod:`polind.identification.starts`; the fit with the
+smallest sum of squares in sample is kept.  The Jacobian is taken by forward
+differences of a fixed step in these variables, its columns simulated side
+by side on threads (the numba kernels release the GIL).  A trial point whose
+parameters the model rejects (a load its surface cannot carry, say) or where
+its force is not finite costs a large constant residual, so the solver backs
+off instead of stopping.
+
+A free value whose Jacobian column is zero at a start (a unit change of its
+variable, a factor e of a log-scaled parameter, moves the force by less than
+:data:`STILL_COLUMN` of the measured force's norm) cannot move the residual
+there: it is fixed at that start and not iterated on, and the result reports
+it as not identifiable.
 """
 
 from __future__ import annotations
@@ -16,23 +24,28 @@ import os
 import threading
 import time
 import warnings
+from dataclasses import dataclass
 
 import numpy as np
 
 from polind.errors import InputError
-from polind.identification.data import holdout_split, measured_data
+from polind.identification.data import MeasuredData, holdout_split, measured_data
 from polind.identification.memory import fit_bytes_per_sample
-from polind.identification.parameters import build_free, model_at, parse_fit
+from polind.identification.parameters import build_free, model_at, param_value, parse_fit
 from polind.identification.results import FitResult, fit_result
+from polind.identification.starts import DEFAULT_SPREAD_STARTS, check_starts, starting_points
 from polind.resources import check_memory
 from polind.validation import check_number, describe
 
-__all__ = ["identify"]
+__all__ = ["STILL_COLUMN", "identify"]
 
 #: A simulation of the data shorter than this [s] runs the Jacobian on one thread by
 #: default: the threads' overhead, and their contention with the BLAS's own threads
 #: (which spin between the solver's matrix products), eat the gain.
 _THREADED_SIMULATION = 5e-3
+#: A Jacobian column whose norm is at most this share of the measured force's norm is
+#: zero: its free value cannot move the residual (it is fixed at its start).
+STILL_COLUMN = 1e-8
 
 
 def _worker_count(workers, columns: int, seconds: float) -> int:
@@ -47,9 +60,256 @@ def _worker_count(workers, columns: int, seconds: float) -> int:
     return int(min(workers, max(columns, 1)))
 
 
-def identify(model, data, *, free=None, bounds=None, holdout=None, max_evaluations=None,
-             tolerance=1e-8, diff_step=1e-6, x_scale=1.0, callback=None,
-             workers=None) -> FitResult:
+@dataclass(frozen=True)
+class _Settings:
+    """The solver's options, the same for every start."""
+
+    max_evaluations: int | None
+    tolerance: float
+    diff_step: float
+    x_scale: object
+    workers: int | None
+
+
+class _Counter:
+    """The simulations of a whole identification (every start), and the caller's callback."""
+
+    def __init__(self, callback):
+        self.callback = callback
+        self.evaluations = 0
+        self.lock = threading.Lock()
+
+    def count(self, residual) -> None:
+        with self.lock:
+            self.evaluations += 1
+            if self.callback is not None:
+                rms = math.inf if residual is None else float(np.sqrt(np.mean(residual ** 2)))
+                self.callback(self.evaluations, rms)
+
+
+@dataclass
+class _LocalFit:
+    """The solution of one start."""
+
+    label: str
+    u: np.ndarray
+    rss: float
+    jac: np.ndarray          # at u, a zero column for each fixed variable
+    iterations: int
+    success: bool
+    message: str
+    fixed: np.ndarray        # bool per variable: fixed at the start (zero column there)
+
+
+class _Problem:
+    """The least-squares problem of one model on the fitted samples, solved from any start."""
+
+    def __init__(self, start, frees, measured: MeasuredData, settings: _Settings,
+                 counter: _Counter):
+        self.start, self.frees, self.measured = start, frees, measured
+        self.settings, self.counter = settings, counter
+        parts = [free.internal_bounds() for free in frees]
+        self.low = np.concatenate([low for low, _ in parts]) if parts else np.empty(0)
+        self.high = np.concatenate([high for _, high in parts]) if parts else np.empty(0)
+        # What a trial point the model rejects (e.g. a load its surface cannot carry) or
+        # where it blows up costs: far more than any sensible fit, so the solver backs off.
+        self.penalty = 10.0 * measured.scale
+        self.still = STILL_COLUMN * float(np.linalg.norm(measured.force))
+        self.threads = None
+        self.pool = None
+        if settings.workers is not None:
+            self._threads_for(_worker_count(settings.workers, self.low.size, math.inf))
+
+    def _threads_for(self, count):
+        self.threads = count
+        if count > 1:
+            from concurrent.futures import ThreadPoolExecutor
+            self.pool = ThreadPoolExecutor(max_workers=count, thread_name_prefix="polind-fit")
+
+    def close(self):
+        if self.pool is not None:
+            self.pool.shutdown()
+
+    def evaluate(self, u):
+        """The residual at u, or None where the parameters make no valid model."""
+        try:
+            force = self.measured.simulate(model_at(self.start, self.frees, u))
+        except InputError:
+            residual = None
+        else:
+            residual = force - self.measured.force
+            if not np.all(np.isfinite(residual)):
+                residual = None
+        self.counter.count(residual)
+        return residual
+
+    def jacobian(self, u, base, columns) -> np.ndarray:
+        """Forward differences with a fixed step in the variables (backward at an upper
+        bound or where the forward point is invalid) of the given columns, on threads."""
+        step = self.settings.diff_step
+
+        def column(j):
+            forward = step if u[j] + step <= self.high[j] else -step
+            for trial in (forward, -forward):
+                moved = u.copy()
+                moved[j] += trial
+                residual = self.evaluate(moved)
+                if residual is not None:
+                    return (residual - base) / trial
+            return np.zeros(base.size)
+
+        columns = list(columns)
+        out = []
+        if self.threads is None and columns:
+            # The first column, timed, decides how many threads the others get.
+            clock = time.perf_counter()
+            out.append(column(columns.pop(0)))
+            self._threads_for(_worker_count(None, self.low.size, time.perf_counter() - clock))
+        out += self.pool.map(column, columns) if self.pool is not None else map(column, columns)
+        return np.column_stack(out) if out else np.zeros((base.size, 0))
+
+    def solve(self, label: str, u0: np.ndarray) -> _LocalFit | None:
+        """The fit from ``u0`` (None if the model rejects that start).
+
+        The values whose Jacobian column is zero at ``u0`` are fixed there.  Where
+        the solution has given one of them a column again (GMS's Stribeck velocity
+        once a start with ``Fs = Fc`` has moved them apart), the fit goes on from
+        the solution with it free (once).
+        """
+        base = self.evaluate(u0)
+        if base is None:
+            return None
+        first = self.jacobian(u0, base, range(u0.size))
+        fixed = np.linalg.norm(first, axis=0) <= self.still
+        if fixed.all():
+            return _LocalFit(label, u0, float(base @ base), first, 0, True,
+                             "no free value moves the force", fixed)
+        u, residual, jac, iterations, success, message = self._solve_active(
+            u0, base, np.flatnonzero(~fixed), first[:, ~fixed])
+        if fixed.any() and not fixed.all():
+            still = np.flatnonzero(fixed)
+            revived = np.linalg.norm(self.jacobian(u, residual, still), axis=0) > self.still
+            if revived.any():
+                fixed[still[revived]] = False
+                u, residual, jac, more, success, message = self._solve_active(
+                    u, residual, np.flatnonzero(~fixed), None)
+                iterations += more
+        full = np.zeros((base.size, u0.size))
+        full[:, ~fixed] = jac
+        return _LocalFit(label, u, float(residual @ residual), full, iterations, success,
+                         message, fixed)
+
+    def _solve_active(self, u0, base, active, first):
+        """``least_squares`` over the variables ``active`` from ``u0`` (residual ``base``;
+        ``first``: the Jacobian's active columns there, or None).  Returns ``(u, residual,
+        jac, iterations, success, message)``."""
+        from scipy.optimize import least_squares
+
+        # The solver's variables are 1 + u (u = u0 at the start): its first trust radius is
+        # |x0|, and x0 stays away from 0 where scipy's relative steps would vanish.
+        x0 = u0[active] + 1.0
+        last = {"x": x0.copy(), "residual": base}
+        pending = {"jac": first}                 # the Jacobian at x0, if computed already
+
+        def unpack(x):
+            u = u0.copy()
+            u[active] = x - 1.0
+            return u
+
+        def residuals(x):
+            if np.array_equal(last["x"], x):
+                return last["residual"]
+            residual = self.evaluate(unpack(x))
+            if residual is None:
+                residual = np.full(self.measured.size, self.penalty)
+            last["x"], last["residual"] = x.copy(), residual
+            return residual
+
+        def jacobian(x):
+            known = pending.pop("jac", None)
+            if known is not None and np.array_equal(x, x0):
+                return known
+            return self.jacobian(unpack(x), residuals(x), active)
+
+        settings = self.settings
+        solution = least_squares(residuals, x0, jac=jacobian,
+                                 bounds=(self.low[active] + 1.0, self.high[active] + 1.0),
+                                 method="trf", x_scale=settings.x_scale,
+                                 ftol=settings.tolerance, xtol=settings.tolerance,
+                                 gtol=settings.tolerance, max_nfev=settings.max_evaluations)
+        return (unpack(solution.x), solution.fun, solution.jac, int(solution.njev or 0),
+                solution.status > 0, str(solution.message))
+
+
+def _fit_from_starts(start, keys, bounds, frees, measured, settings, counter, *, starts,
+                     spread, extra_starts, special_cases) -> list[_LocalFit]:
+    """The local fits from every starting point (:mod:`polind.identification.starts`)."""
+    def fit_special_case(case):
+        return _special_case_fit(case, bounds, measured, settings, counter)
+
+    problem = _Problem(start, frees, measured, settings, counter)
+    fits = []
+    try:
+        for label, u0 in starting_points(
+                start, keys, frees, measured, starts=starts, spread=spread,
+                extra_starts=extra_starts,
+                fit_special_case=fit_special_case if special_cases else None):
+            local = problem.solve(label, u0)
+            if local is not None:
+                fits.append(local)
+    finally:
+        problem.close()
+    return fits
+
+
+def _special_case_fit(case, bounds, measured, settings, counter):
+    """The fitted contained model of a special case, or None where it cannot be fitted.
+
+    Its free keys are ``case.free``; it keeps the containing fit's bounds of
+    the keys of the same name that hold its start; it starts from its own
+    values and structured starts (no spread points, no special case of its own).
+    """
+    params = case.model.params
+    carried = {}
+    for key, (low, high) in bounds.items():
+        if key in case.free:
+            value = np.atleast_1d(np.asarray(param_value(params, key), dtype=np.float64))
+            if np.all((value >= low) & (value <= high)):
+                carried[key] = [low, high]
+    try:
+        start, keys, given = parse_fit(case.model, free=list(case.free), bounds=carried)
+        frees = build_free(start, keys, given, measured, [])
+        if not np.all(np.isfinite(measured.simulate(start))):
+            return None
+    except InputError:
+        return None
+    fits = _fit_from_starts(start, keys, given, frees, measured, settings, counter,
+                            starts=None, spread=0, extra_starts=None, special_cases=False)
+    if not fits:
+        return None
+    best = min(fits, key=lambda local: local.rss)
+    return model_at(start, frees, best.u)
+
+
+def _checked_extra_starts(extra_starts, start) -> dict:
+    """``extra_starts`` as a dict label -> model of the start's type (InputError otherwise)."""
+    from collections.abc import Mapping
+
+    if extra_starts is None:
+        return {}
+    if not isinstance(extra_starts, Mapping):
+        raise InputError(f"The 'extra_starts' of identify must be a mapping label -> model. Got "
+                         f"{describe(extra_starts)} instead.")
+    for label, model in extra_starts.items():
+        if type(model) is not type(start):
+            raise InputError(f"The extra start '{label}' of identify must be a {start.type} "
+                             f"model, as the model fitted. Got {describe(model)} instead.")
+    return dict(extra_starts)
+
+
+def identify(model, data, *, free=None, bounds=None, holdout=None, starts=None,
+             extra_starts=None, max_evaluations=None, tolerance=1e-8, diff_step=1e-6,
+             x_scale=1.0, callback=None, workers=None) -> FitResult:
     """Identify free parameters of a friction model from measured force.
 
     Bounded nonlinear least squares on ``F_model(t; p) - F_measured``
@@ -94,8 +354,21 @@ def identify(model, data, *, free=None, bounds=None, holdout=None, max_evaluatio
         whole record from rest, one run, and its tail is scored (not a run
         restarted from rest at the split).  The default bounds come from the
         fitted part only.
+    starts : int, optional
+        The number of starting points (``polind fit --starts N``): the
+        model's values first, then the ``extra_starts``, the fitted special
+        case, the structured starts, and Latin-hypercube points in the
+        bounds to make up ``N``.  ``starts=1`` fits from the model's values
+        only.  Default: all of the model's own starts and 2 spread points
+        (:ref:`guide-fit-starts`).  The result's
+        ``start_label`` names the start of the fit kept and ``starts`` what
+        each reached.
+    extra_starts : mapping of str to FrictionModel, optional
+        More starting models, labelled (tried after the model's values);
+        only their free keys are used.  :func:`polind.compare` passes the
+        fitted models of the other rows that this model contains.
     max_evaluations : int, optional
-        Most solver function evaluations (``max_nfev``; default
+        Most solver function evaluations per start (``max_nfev``; default
         ``100 * number of variables``).
     tolerance : float
         ``ftol`` and ``xtol`` of the solver (relative change of the cost and
@@ -126,13 +399,17 @@ def identify(model, data, *, free=None, bounds=None, holdout=None, max_evaluatio
     Returns
     -------
     FitResult
-        Its ``warnings`` are also issued as ``UserWarning``.
+        Its ``warnings`` (:ref:`guide-fit-warnings`) are also issued as
+        ``UserWarning``: a parameter at a bound or not identifiable, a force
+        level beyond the data, residuals with structure, a held-out error
+        far above the in-sample one, ...
 
     Raises
     ------
     InputError
         Bad data (too few samples, fewer than free values + 1, no motion, a
-        constant force, NaN, non-increasing ``t``), a bad ``holdout``, or a
+        constant force, NaN, non-increasing ``t``), a bad ``holdout`` or
+        ``starts``, or a
         bad ``[fit]`` (unknown or non-numeric free key, a free key without a
         starting value, bounds for a key that is not free, low >= high,
         bounds that exclude the starting value), naming the key or column;
@@ -154,9 +431,9 @@ def identify(model, data, *, free=None, bounds=None, holdout=None, max_evaluatio
     (100000, 1.0)
     >>> fit.warnings
     ()
+    >>> fit.start_label in [label for label, rms in fit.starts]
+    True
     """
-    from scipy.optimize import least_squares
-
     max_evaluations = None if max_evaluations is None else check_number(
         "identify", "max_evaluations", max_evaluations, "positive", integer=True)
     tolerance = check_number("identify", "tolerance", tolerance, "positive")
@@ -167,6 +444,7 @@ def identify(model, data, *, free=None, bounds=None, holdout=None, max_evaluatio
     if diff_step >= 1.0:
         raise InputError(f"The 'diff_step' parameter of identify must be below 1 (a relative "
                          f"step). Got {diff_step!r} instead.")
+    starts = check_starts(starts)
     start, keys, given_bounds = parse_fit(model, free=free, bounds=bounds)
     notes = []
     record = measured_data(data, model=start, notes=notes)
@@ -180,108 +458,30 @@ def identify(model, data, *, free=None, bounds=None, holdout=None, max_evaluatio
         raise InputError(f"Identification of {n_variables} parameter values needs more samples "
                          f"than that. Got {measured.size} samples of 't'"
                          + ("." if fitted_samples is None else " in the fitted part."))
-    low, high = (np.concatenate(parts) if parts else np.empty(0)
-                 for parts in zip(*(f.internal_bounds() for f in frees)))
-
-    # The solver's variables are 1 + u (u = 0 at the start): its first trust radius is
-    # |x0| (one unit per variable: a factor e for a log-scaled parameter), and x0 stays
-    # away from 0 where scipy's relative steps would vanish.
-    low, high = low + 1.0, high + 1.0
-    evaluations = 0
-    counting = threading.Lock()
-    last = {}
-    threads = pool = None        # the Jacobian's worker threads, while the solver runs
-    # What a trial point the model rejects (e.g. a load its surface cannot carry) or
-    # where it blows up costs: far more than any sensible fit, so the solver backs off.
-    penalty = 10.0 * measured.scale
-
-    def evaluate(x):
-        """The residual at x, or None where the parameters make no valid model."""
-        nonlocal evaluations
-        try:
-            force = measured.simulate(model_at(start, frees, x - 1.0))
-        except InputError:
-            residual = None
-        else:
-            residual = force - measured.force
-            if not np.all(np.isfinite(residual)):
-                residual = None
-        with counting:
-            evaluations += 1
-            if callback is not None:
-                rms = math.inf if residual is None else float(np.sqrt(np.mean(residual ** 2)))
-                callback(evaluations, rms)
-        return residual
-
-    def residuals(x):
-        if np.array_equal(last.get("x"), x):        # the start, simulated once below
-            return last["residual"]
-        residual = evaluate(x)
-        if residual is None:
-            residual = np.full(measured.size, penalty)
-        last["x"], last["residual"] = x.copy(), residual
-        return residual
-
-    def jacobian(x):
-        """Forward differences with a fixed step in the solver's variables (backward at an
-        upper bound or where the forward point is invalid); the residual at x is the one
-        the solver has just evaluated.  Columns are independent simulations: on threads."""
-        base = last["residual"] if np.array_equal(last.get("x"), x) else residuals(x)
-
-        def column(j):
-            forward = diff_step if x[j] + diff_step <= high[j] else -diff_step
-            for step in (forward, -forward):
-                moved = x.copy()
-                moved[j] += step
-                residual = evaluate(moved)
-                if residual is not None:
-                    return (residual - base) / step
-            return np.zeros(base.size)
-
-        nonlocal pool
-        columns, rest = [], range(x.size)
-        if threads is None:
-            # The first column, timed, decides how many threads the others get.
-            clock = time.perf_counter()
-            columns.append(column(0))
-            threads_for(_worker_count(workers, x.size, time.perf_counter() - clock))
-            rest = range(1, x.size)
-        columns += pool.map(column, rest) if pool is not None else map(column, rest)
-        return np.column_stack(columns)
-
-    def threads_for(count):
-        nonlocal threads, pool
-        threads = count
-        if count > 1:
-            from concurrent.futures import ThreadPoolExecutor
-            pool = ThreadPoolExecutor(max_workers=count, thread_name_prefix="polind-fit")
-
-    first = measured.simulate(start)
-    if not np.all(np.isfinite(first)):
+    if not np.all(np.isfinite(measured.simulate(start))):
         raise InputError(f"The starting {start.type} model gives a non-finite force on these "
                          "data; check its parameters.")
-    last["x"], last["residual"] = np.ones(n_variables), first - measured.force
-    holdout_record = None if fitted_samples is None else record
+    settings = _Settings(max_evaluations, tolerance, diff_step, x_scale, workers)
+    counter = _Counter(callback)
+    fits = _fit_from_starts(start, keys, given_bounds, frees, measured, settings, counter,
+                            starts=starts, spread=DEFAULT_SPREAD_STARTS,
+                            extra_starts=_checked_extra_starts(extra_starts, start),
+                            special_cases=True)
+    best = min(fits, key=lambda local: local.rss)        # the first of equals: the earliest
+    fitted = model_at(start, frees, best.u)
+    force = measured.simulate(fitted)
+    tried = [(local.label, math.sqrt(local.rss / measured.size)) for local in fits]
     if n_variables == 0:
-        result = fit_result(start, start, frees, np.zeros(0), given_bounds, first, measured, 0, 1,
-                            True, "nothing to identify", notes=notes, record=holdout_record)
+        result = fit_result(start, start, frees, np.zeros(0), given_bounds, force, measured, 0,
+                            counter.evaluations, True, "nothing to identify", notes=notes,
+                            record=None if fitted_samples is None else record,
+                            start_label=best.label, starts=tried)
     else:
-        if workers is not None:
-            threads_for(_worker_count(workers, n_variables, math.inf))
-        try:
-            solution = least_squares(residuals, np.ones(n_variables), jac=jacobian,
-                                     bounds=(low, high), method="trf", x_scale=x_scale,
-                                     ftol=tolerance, xtol=tolerance, gtol=tolerance,
-                                     max_nfev=max_evaluations)
-        finally:
-            if pool is not None:
-                pool.shutdown()
-        solution.x = solution.x - 1.0
-        fitted = model_at(start, frees, solution.x)
-        force = measured.simulate(fitted)
-        result = fit_result(fitted, start, frees, solution.x, given_bounds, force, measured,
-                            solution.njev or 0, evaluations, solution.status > 0, solution.message,
-                            jac=solution.jac, notes=notes, record=holdout_record)
+        result = fit_result(fitted, start, frees, best.u, given_bounds, force, measured,
+                            best.iterations, counter.evaluations, best.success, best.message,
+                            jac=best.jac, notes=notes,
+                            record=None if fitted_samples is None else record,
+                            fixed=best.fixed, start_label=best.label, starts=tried)
     for note in result.warnings:
         warnings.warn(note, UserWarning, stacklevel=2)
     return result

@@ -1,6 +1,7 @@
 """One module per friction model; importing this package registers them all."""
 
-from polind.models.base import FrictionModel, Path, State, StepFunctions, StepKernel
+from polind.models.base import (FrictionModel, Path, SpecialCase, State, StepFunctions,
+                                StepKernel)
 from polind.models.registry import MODEL_TYPES, model_class, register_model, unregister_model
 from polind.models.static import Coulomb, Stribeck
 from polind.models.dahl import Dahl
@@ -18,9 +19,9 @@ import pkgutil as _pkgutil
 for _module in _pkgutil.iter_modules(__path__):
     _importlib.import_module(f"{__name__}.{_module.name}")
 
-__all__ = ["MODEL_TYPES", "FrictionModel", "Path", "State", "StepFunctions", "StepKernel",
-           "register_model", "unregister_model", "model_class", "Coulomb", "Stribeck", "Dahl",
-           "LuGre", "MaxwellSlip", "GMS", "Leuven", "PolInd"]
+__all__ = ["MODEL_TYPES", "FrictionModel", "Path", "SpecialCase", "State", "StepFunctions",
+           "StepKernel", "register_model", "unregister_model", "model_class", "Coulomb",
+           "Stribeck", "Dahl", "LuGre", "MaxwellSlip", "GMS", "Leuven", "PolInd"]
 
 from polind.errors import InputError as _InputError
 from polind.errors import describe as _describe

@@ -12,6 +12,8 @@ from __future__ import annotations
 import copy
 import json
 import math
+from collections.abc import Callable
+from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
@@ -71,6 +73,40 @@ COMPLIANCE = Table("compliance", (Param("stiffness", unit="N/m",
                        "(:ref:`guide-series-compliance`)."))
 
 
+@dataclass(frozen=True)
+class SpecialCase:
+    """A model that another contains as a special case (the user guide, :ref:`guide-fit-starts`).
+
+    :meth:`polind.FrictionModel.special_case` returns one: identification fits the
+    contained model first and starts the containing model from that fit too,
+    so the containing model never ends worse in sample than the model it
+    contains (where its free keys can reproduce it).
+
+    Attributes
+    ----------
+    kind : type
+        The contained model's class (:meth:`polind.FrictionModel.contains`).
+    model : FrictionModel
+        The contained model at the containing model's values: the start of its fit.
+    free : tuple of str
+        The contained model's keys to fit: those the containing model's free
+        keys can reproduce.
+    lift : callable
+        ``lift(fitted)``: a model of the containing type whose force equals
+        that of the fitted contained model ``fitted`` (identification takes
+        its free keys from it and keeps the others).
+    description : str
+        What the special case is, for the ``start`` of a fit's result
+        (``"maxwell-slip (gms with Fs = Fc)"``).
+    """
+
+    kind: type
+    model: "FrictionModel"
+    free: tuple
+    lift: Callable
+    description: str
+
+
 class FrictionModel:
     """Base class of every friction model: a validated parameter set and its step.
 
@@ -86,7 +122,9 @@ class FrictionModel:
     * ``step_functions`` (its numba ``step``, ``force`` and ``tangent``) and
       ``kernel_arrays`` (its ``scalars`` and ``table``);
     * optionally ``force_scale``, ``rest_capacity`` (memoryless models),
-      ``characteristic_scales``, ``phenomena`` and ``fit_defaults``.
+      ``characteristic_scales``, ``phenomena`` and ``fit_defaults``, and for
+      identification ``structured_starts`` and ``contains`` /
+      ``special_case`` (the starting points of a fit).
 
     :func:`polind.simulate`, :class:`polind.Stepper`, :class:`polind.Body`,
     :func:`polind.simulate_system`, identification, the phenomena and the
@@ -297,6 +335,45 @@ class FrictionModel:
     @classmethod
     def couple_fit(cls, params: dict, keys: list, start: dict) -> None:
         """Keep rules across parameters true while the free ``keys`` move (in place)."""
+
+    def structured_starts(self, path: Path, force: np.ndarray, free: list) -> dict:
+        """Starting models of a fit computed from the structure of a record.
+
+        Identification (:ref:`guide-fit-starts`) fits from each of them too and
+        keeps the best fit.  A start need only set the keys it estimates:
+        identification takes the ``free`` keys from it and keeps this model's
+        other values.
+
+        Parameters
+        ----------
+        path : Path
+            The fitted samples' motion (positions [m], velocities [m/s]).
+        force : ndarray
+            The measured force at each sample [N].
+        free : list of str
+            The keys the fit frees.
+
+        Returns
+        -------
+        dict
+            ``{label: model of this type}`` (default: none).  A start the
+            record cannot give (an :class:`~polind.InputError`) is left out.
+        """
+        return {}
+
+    @classmethod
+    def contains(cls) -> type | None:
+        """The model class this one contains as a special case, or None (default)."""
+        return None
+
+    def special_case(self, free: list, path: Path) -> SpecialCase | None:
+        """The special case of :meth:`contains` to fit first, for a fit freeing ``free``.
+
+        ``path`` is the motion of the fitted samples (a special case may need
+        its speeds).  None (the default) when the model contains none or
+        when the free keys cannot reproduce it.
+        """
+        return None
 
     def load_bounds(self, state: State) -> tuple | None:
         """``(low, high)``: the normal loads [N] a run from ``state`` may use (None: no load)."""

@@ -5,9 +5,10 @@ from __future__ import annotations
 import math
 import numpy as np
 
-from polind.models.base import FrictionModel, StepFunctions, element_scales, register, scales
+from polind.models.base import (FrictionModel, SpecialCase, StepFunctions, element_scales,
+                                register, scales)
 from polind.models.params import Param, STRIBECK_PARAMS, VISCOUS, same_length, sums_to
-from polind.models.maxwell_slip import example_elements
+from polind.models.maxwell_slip import MaxwellSlip, example_elements
 
 
 @register
@@ -70,7 +71,8 @@ class GMS(FrictionModel):
                        "approaches its share of the Stribeck curve."), symbol="C"),
     ) + STRIBECK_PARAMS + (VISCOUS,)
     phenomena = frozenset({"presliding_memory", "frictional_lag", "non_drifting"})
-    fit_defaults = ("stiffness", "attraction", "coulomb_force", "static_force",
+    # The weights are free by default: with them GMS contains Maxwell-slip (Fs = Fc).
+    fit_defaults = ("stiffness", "weight", "attraction", "coulomb_force", "static_force",
                     "stribeck_velocity")
     simplex_keys = ("weight",)
 
@@ -102,8 +104,61 @@ class GMS(FrictionModel):
 
     # --- starting models from measured data ---------------------------------------------
 
+    def structured_starts(self, path, force, free):
+        """The NNLS element set of the record with this model's element count and its
+        attraction, Stribeck velocity and ratio Fs / Fc (:meth:`from_presliding`)."""
+        from polind.errors import InputError
+
+        try:
+            fitted = type(self).from_presliding(path, force, model=self,
+                                                elements=len(self._params["stiffness"]))
+        except InputError:
+            return {}
+        return {"the NNLS element set (GMS.from_presliding)": fitted}
+
     @classmethod
-    def from_presliding(cls, path, F, slip_distances=None, n=24, *, model=None) -> "GMS":
+    def contains(cls):
+        """Maxwell-slip: GMS with ``Fs = Fc`` is Maxwell-slip with ``W_i = alpha_i Fc``."""
+        return MaxwellSlip
+
+    def special_case(self, free, path):
+        """Maxwell-slip with this model's elements, ``W_i = alpha_i Fc``.
+
+        Its free keys: ``stiffness`` if free here, ``breakaway_force`` if the
+        weights and a force level are, ``viscous_coefficient`` if free here.
+        A fitted Maxwell-slip model lifts to ``k_i``, ``alpha_i = W_i / sum W``,
+        ``Fs = Fc = sum W`` and its sigma2: with ``Fs = Fc`` a GMS element
+        holds ``alpha_i Fc`` while it slips, whatever ``C``, so the two
+        models' forces are equal.
+        """
+        keys = set(free)
+        contained = [key for key, needs in (
+            ("stiffness", {"stiffness"}), ("breakaway_force", {"weight"}),
+            ("viscous_coefficient", {"viscous_coefficient"})) if needs <= keys]
+        if "breakaway_force" in contained and not keys & {"coulomb_force", "static_force"}:
+            contained.remove("breakaway_force")
+        if not contained:
+            return None
+        p = self._params
+        start = MaxwellSlip(stiffness=list(p["stiffness"]),
+                            breakaway_force=[a * p["coulomb_force"] for a in p["weight"]],
+                            viscous_coefficient=p["viscous_coefficient"])
+
+        def lift(fitted):
+            q = fitted.params
+            total = math.fsum(q["breakaway_force"])
+            weight = [w / total for w in q["breakaway_force"]]
+            weight[-1] = 1.0 - math.fsum(weight[:-1])
+            return self.with_params(stiffness=list(q["stiffness"]), weight=weight,
+                                    coulomb_force=total, static_force=total,
+                                    viscous_coefficient=q["viscous_coefficient"])
+
+        return SpecialCase(MaxwellSlip, start, tuple(contained), lift,
+                           "maxwell-slip (gms with Fs = Fc)")
+
+    @classmethod
+    def from_presliding(cls, path, F, slip_distances=None, n=24, *, model=None,
+                        elements=None) -> "GMS":
         """A GMS starting model: the element set of a presliding record.
 
         GMS with ``Fs = Fc`` and a large attraction ``C`` is the Maxwell-slip
@@ -128,6 +183,10 @@ class GMS(FrictionModel):
             with ``v`` that speed (a slip relaxation length
             ``alpha_i g / C`` well below every slip distance, i.e. close to
             Maxwell-slip).
+        elements : int, optional
+            The number of elements, as :meth:`MaxwellSlip.from_presliding
+            <polind.models.MaxwellSlip.from_presliding>` (default: as NNLS
+            finds them).
 
         Returns
         -------
@@ -156,9 +215,8 @@ class GMS(FrictionModel):
         (4.0, [0.25, 0.75])
         """
         from polind.errors import InputError, describe
-        from polind.models.maxwell_slip import MaxwellSlip
 
-        slip = MaxwellSlip.from_presliding(path, F, slip_distances, n)
+        slip = MaxwellSlip.from_presliding(path, F, slip_distances, n, elements=elements)
         stiffness = np.asarray(slip.params["stiffness"])
         breakaway = np.asarray(slip.params["breakaway_force"])
         total = float(breakaway.sum())

@@ -5,8 +5,17 @@ from __future__ import annotations
 import math
 import numpy as np
 
-from polind.models.base import FrictionModel, StepFunctions, register, scales
+from polind.models.base import FrictionModel, SpecialCase, StepFunctions, register, scales
 from polind.models.params import Param, STRIBECK_PARAMS, VISCOUS
+from polind.models.static import Stribeck
+
+#: The keys LuGre shares with the Stribeck curve it follows in steady sliding.
+_CURVE_KEYS = ("coulomb_force", "static_force", "stribeck_velocity", "stribeck_exponent",
+               "viscous_coefficient")
+#: A bristle stiff enough that the bristle settles within a step: sigma0 times a short step
+#: displacement (the 1st percentile of the moving samples') is this many times the largest
+#: level of g.
+_SETTLING = 50.0
 
 
 @register
@@ -75,6 +84,41 @@ class LuGre(FrictionModel):
     ) + STRIBECK_PARAMS
     phenomena = frozenset({"frictional_lag"})
     fit_defaults = ("bristle_stiffness", "coulomb_force", "static_force", "stribeck_velocity")
+
+    @classmethod
+    def contains(cls):
+        """Stribeck: in steady sliding LuGre's force is the Stribeck curve's."""
+        return Stribeck
+
+    def special_case(self, free, path):
+        """The Stribeck model of this model's curve; its free keys are LuGre's curve keys
+        that are free.
+
+        A fitted Stribeck model lifts to LuGre with its curve, no bristle
+        damping and a bristle stiff enough to settle within a step (sigma0
+        times a short step displacement -- the 1st percentile of the moving
+        samples' -- 50 times the larger of Fs and Fc): at every moving sample
+        after the first (but the shortest steps) the force is the Stribeck
+        model's.  (At rest Stribeck gives 0, LuGre holds its bristle.)
+        """
+        contained = tuple(key for key in _CURVE_KEYS if key in free)
+        if not contained:
+            return None
+        p = self._params
+        start = Stribeck(**{key: p[key] for key in _CURVE_KEYS + ("stribeck_shape",)})
+        moving = np.abs(path.displacement[1:])
+        moving = moving[moving > 0.0]
+        step = float(np.percentile(moving, 1.0)) if moving.size else 1.0
+
+        def lift(fitted):
+            q = fitted.params
+            level = max(q["coulomb_force"], q["static_force"])
+            return self.with_params(**{key: q[key] for key in _CURVE_KEYS},
+                                    bristle_stiffness=_SETTLING * level / step,
+                                    bristle_damping=0.0)
+
+        return SpecialCase(Stribeck, start, contained, lift,
+                           "stribeck (lugre in steady sliding)")
 
     def characteristic_scales(self):
         p = self._params

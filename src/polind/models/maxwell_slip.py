@@ -125,9 +125,22 @@ class MaxwellSlip(FrictionModel):
 
     # --- starting models from measured data ---------------------------------------------
 
+    def structured_starts(self, path, force, free):
+        """The NNLS element set of the record (:meth:`from_presliding`), with as many
+        elements as this model (and sigma2 when ``viscous_coefficient`` is free)."""
+        from polind.errors import InputError
+
+        try:
+            fitted = type(self).from_presliding(
+                path, force, elements=len(self._params["stiffness"]),
+                viscous="viscous_coefficient" in free)
+        except InputError:
+            return {}
+        return {"the NNLS element set (MaxwellSlip.from_presliding)": fitted}
+
     @classmethod
     def from_presliding(cls, path, F, slip_distances=None, n=24, *,
-                        viscous=False) -> "MaxwellSlip":
+                        viscous=False, elements=None) -> "MaxwellSlip":
         """An element set fitted to a presliding record by non-negative least squares.
 
         With the slip distances ``D_i`` fixed on a grid, the force is linear
@@ -159,6 +172,13 @@ class MaxwellSlip(FrictionModel):
         viscous : bool
             Also fit ``viscous_coefficient`` (sigma2 >= 0 [N s/m], a column
             of the sample velocities).
+        elements : int, optional
+            The number of elements of the result (a starting point for a
+            model of that many elements): the NNLS set's elements neighbouring
+            in slip distance are merged (break-away forces summed, slip
+            distance their force-weighted geometric mean) or the strongest is
+            split in two (half its force each, at slip distances a grid
+            step apart) until there are that many.  Default: as NNLS finds them.
 
         Returns
         -------
@@ -233,11 +253,43 @@ class MaxwellSlip(FrictionModel):
         if not active.any():
             raise InputError("The 'F' samples show no presliding force that a Maxwell-slip "
                              "element set with non-negative break-away forces can carry.")
-        params = {"stiffness": (weights[active] / grid[active]).tolist(),
-                  "breakaway_force": weights[active].tolist()}
+        distances, weights = grid[active], weights[active]
+        if elements is not None:
+            if isinstance(elements, bool) or not isinstance(elements, (int, np.integer)) \
+                    or elements < 1:
+                raise InputError(f"The number of 'elements' must be a positive integer. Got "
+                                 f"{describe(elements)} instead.")
+            step = float(grid[1] / grid[0]) if grid.size > 1 else 2.0
+            distances, weights = _resized(distances, weights, int(elements), step)
+        params = {"stiffness": (weights / distances).tolist(),
+                  "breakaway_force": weights.tolist()}
         if viscous:
             params["viscous_coefficient"] = float(coefficients[-1])
         return cls(**params)
+
+
+def _resized(distances, weights, count, step):
+    """An element set (slip distances, break-away forces) brought to ``count`` elements.
+
+    Merges the neighbours (in slip distance) whose merge moves the least force
+    across the least log-distance; splits the strongest element in two a grid
+    ``step`` (a ratio) apart.
+    """
+    distances, weights = list(map(float, distances)), list(map(float, weights))
+    while len(distances) > count:
+        costs = [min(weights[i], weights[i + 1]) * math.log(distances[i + 1] / distances[i])
+                 for i in range(len(distances) - 1)]
+        i = int(np.argmin(costs))
+        total = weights[i] + weights[i + 1]
+        merged = math.exp((weights[i] * math.log(distances[i])
+                           + weights[i + 1] * math.log(distances[i + 1])) / total)
+        distances[i:i + 2], weights[i:i + 2] = [merged], [total]
+    while len(distances) < count:
+        i = int(np.argmax(weights))
+        half, ratio = 0.5 * weights[i], math.sqrt(step)
+        distances[i:i + 1] = [distances[i] / ratio, distances[i] * ratio]
+        weights[i:i + 1] = [half, half]
+    return np.array(distances), np.array(weights)
 
 
 # The element fit per sample (480 bytes at 24 slip distances): the data and a path, and

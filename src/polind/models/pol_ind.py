@@ -39,6 +39,7 @@ from collections import OrderedDict
 import numpy as np
 
 from polind.errors import InputError
+from polind.models import pol_ind_fit
 from polind.models.base import FrictionModel, StepFunctions, register
 from polind.models.gms import GMS, gms_arrays, gms_scales
 from polind.models.maxwell_slip import MaxwellSlip
@@ -462,6 +463,23 @@ class PolInd(FrictionModel):
                              "element stiffnesses and W_j = mu_s N alpha_j (summing to mu_s N): "
                              "the rate-independent limit of the same contact."),
         }
+
+    # --- where a fit starts (polind.models.pol_ind_fit) -------------------------------
+
+    def structured_starts(self, path, force, free):
+        """The record's force level and presliding range on this model's own elements
+        (:func:`polind.models.pol_ind_fit.structured_starts`)."""
+        return pol_ind_fit.structured_starts(self, path, force, free)
+
+    @classmethod
+    def contains(cls):
+        """Pol-Ind itself: its Maxwell-slip limit, ``mu_k = mu_s`` (the elements of its
+        surface, which a Maxwell-slip model of free elements does not stand for)."""
+        return cls
+
+    def special_case(self, free, path):
+        """The Maxwell-slip limit (:func:`polind.models.pol_ind_fit.special_case`)."""
+        return pol_ind_fit.special_case(self, free, path)
 
     # --- the stepping contract --------------------------------------------------------
 

@@ -149,6 +149,18 @@ class Stribeck(FrictionModel):
 
     # --- starting models from measured data ---------------------------------------------
 
+    def structured_starts(self, path, force, free):
+        """The curve estimated from the record's samples as steady points
+        (:meth:`from_steady_points`: the force at each sample against its velocity)."""
+        from polind.errors import InputError
+
+        try:
+            fitted = type(self).from_steady_points(
+                path.sample_velocity, force, stribeck_shape=self._params["stribeck_shape"])
+        except InputError:
+            return {}
+        return {"the steady points (Stribeck.from_steady_points)": fitted}
+
     @classmethod
     def from_steady_points(cls, v, F, *, stribeck_shape="exponential",
                            model=None) -> "Stribeck":
