@@ -406,3 +406,28 @@ def test_an_output_onto_the_described_file_is_refused(instrument, capsys):
                          "-o", data)
     assert status == 2 and "run1.tsv" in err, err
     assert data.read_bytes() == before
+
+
+# --- the documentation shows what polind reads ----------------------------------------------
+
+def test_the_readme_and_the_guide_show_files_polind_reads():
+    import re
+    from pathlib import Path
+
+    from polind import datasets
+
+    root = Path(__file__).resolve().parents[1]
+    shipped = tomllib.loads(datasets.tribometer_description_path().read_text(encoding="utf-8"))
+    readme = (root / "README.md").read_text(encoding="utf-8")
+    blocks = [tomllib.loads(block) for block in re.findall(r"```toml\n(.*?)```", readme, re.S)
+              if block.startswith("[data]")]
+    assert blocks == [shipped]
+    guide = (root / "docs" / "guide" / "identification.rst").read_text(encoding="utf-8")
+    models = {}
+    for block in re.findall(r"\.\. code-block:: toml\n\n((?:   .*\n|\n)+)", guide):
+        text = "\n".join(line[3:] for line in block.splitlines())
+        name = re.match(r"\s*# (\S+)\.toml\n", text)
+        if name:
+            models[name.group(1)] = polind.model_from_dict(tomllib.loads(text))
+    assert {label: model.type for label, model in models.items()} == {
+        "lugre": "lugre", "gms": "gms", "maxwell-slip": "maxwell-slip", "pol-ind": "pol-ind"}

@@ -346,8 +346,8 @@ def read_record(path, require=("t",), one_of=_MOTION, optional=("F", "normal_loa
     --------
     >>> from polind import datasets
     >>> record = read_record(datasets.tribometer_description_path())
-    >>> sorted(record), record["t"][0], record["x"][0]
-    (['F', 'normal_load', 't', 'x'], 6.789, 0.0)
+    >>> list(record), float(record["t"][0]), float(record["x"][0])
+    (['t', 'x', 'F', 'normal_load'], 6.789, 0.0)
     """
     if not is_description(path):
         return read_motion_csv(path, require, one_of, optional, progress=progress)
