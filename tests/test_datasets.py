@@ -157,6 +157,39 @@ def test_the_data_description_read_by_hand_gives_the_record(description, record)
     assert (columns["t"][loaded[0]], columns["t"][loaded[-1]]) == (low, high)
 
 
+def test_the_record_is_the_arrays_the_hand_reader_gave_to_the_bit(record):
+    # The reader polind.datasets had before the data description was read by
+    # polind.io.read_record, kept here as the reference: numpy's parser, the columns by
+    # name, mm and uN scaled by hand, the sign of the friction flipped, the window kept
+    # and the position zeroed.
+    path = datasets.tribometer_path()
+    with open(path, encoding="utf-8") as stream:
+        header = [name.strip() for name in stream.readline().rstrip("\n").split("\t")]
+    table = np.loadtxt(path, delimiter="\t", skiprows=1, dtype=np.float64, ndmin=2)
+    columns = {"t": "Time [s]", "x": "Position [mm]", "F": "Friction [uN]",
+               "normal_load": "Normal [uN]"}
+    scale = {"t": 1.0, "x": 1e-3, "F": -1e-6, "normal_load": 1e-6}
+    t = table[:, header.index("Time [s]")]
+    keep = (t >= 6.789) & (t <= 210.784)
+    by_hand = {key: table[keep, header.index(column)] * scale[key]
+               for key, column in columns.items()}
+    by_hand["x"] = by_hand["x"] - by_hand["x"][0]
+    assert list(record) == list(by_hand)
+    for key, values in by_hand.items():
+        assert record[key].tobytes() == values.tobytes(), key
+
+
+def test_the_record_is_read_through_its_data_description(record):
+    from polind import io
+
+    described = io.read_record(datasets.tribometer_description_path())
+    assert list(described) == ["t", "x", "F", "normal_load"]
+    for key, values in described.items():
+        assert record[key].tobytes() == values.tobytes(), key
+    assert io.record_files(datasets.tribometer_description_path())[-1] == \
+        datasets.tribometer_path()
+
+
 def test_the_licences_and_the_notes_are_beside_the_data():
     folder = datasets.data_folder()
     assert datasets.tribometer_path().parent == folder

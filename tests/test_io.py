@@ -91,6 +91,38 @@ def test_motion_columns_whitespace_blank_lines_crlf_and_bom(tmp_path):
                for column in motion.values())
 
 
+# A spreadsheet's ways of writing a table: each must read as the plain file does.
+SPREADSHEET_FORMS = {
+    "quoted-numbers": b'"t","x","F"\n"0","1.5","-2e-3"\n"0.5", "2.5" ,"1e-3"\n',
+    "quoted-numbers-unquoted-header": b't,x,F\n"0","1.5","-2e-3"\n0.5,"2.5",1e-3\n',
+    "byte-order-mark": b"\xef\xbb\xbft,x,F\n0,1.5,-2e-3\n0.5,2.5,1e-3\n",
+    "crlf": b"t,x,F\r\n0,1.5,-2e-3\r\n0.5,2.5,1e-3\r\n",
+    "blank-trailing-lines": b"t,x,F\n0,1.5,-2e-3\n0.5,2.5,1e-3\n\n\n\n",
+    "blank-trailing-crlf-lines": b"t,x,F\r\n0,1.5,-2e-3\r\n0.5,2.5,1e-3\r\n\r\n\r\n",
+    "all-at-once": b'\xef\xbb\xbf"t","x","F"\r\n"0","1.5","-2e-3"\r\n"0.5","2.5","1e-3"\r\n\r\n',
+}
+
+
+@pytest.mark.parametrize("reader", ["careful", "fast"])
+@pytest.mark.parametrize("form", sorted(SPREADSHEET_FORMS))
+def test_tables_as_spreadsheets_write_them(tmp_path, monkeypatch, form, reader):
+    if reader == "fast":           # every file, however small, to pyarrow's reader first
+        monkeypatch.setattr(io.tables, "_FAST_READ_BYTES", 0)
+    path = write_file(tmp_path / "data.csv", SPREADSHEET_FORMS[form])
+    data = io.read_motion_csv(path, **io.MEASUREMENT_COLUMNS)
+    assert list(data) == ["t", "x", "F"]
+    np.testing.assert_array_equal(data["t"], [0.0, 0.5])
+    np.testing.assert_array_equal(data["x"], [1.5, 2.5])
+    np.testing.assert_array_equal(data["F"], [-2e-3, 1e-3])
+
+
+def test_a_quoted_field_that_is_not_a_number_names_its_row(tmp_path):
+    path = write_file(tmp_path / "data.csv", 't,x\n"0","1"\n"1","1,5"\n')
+    with pytest.raises(InputError) as error:
+        io.read_motion_csv(path)
+    assert_names(str(error.value), path, ["row 3, column 'x'", "expected a number", "'1,5'"])
+
+
 def test_motion_values_read_to_the_bit(tmp_path):
     values = np.random.default_rng(1).normal(size=50) * 10.0 ** np.arange(-25, 25)
     text = "t,x\n" + "".join(f"{k},{float(value)!r}\n" for k, value in enumerate(values))

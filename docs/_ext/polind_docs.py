@@ -22,9 +22,10 @@ cannot drift from what polind reads and writes):
     (``polind.identification.DEFAULT_RANGES``).
 ``.. polind-model-types::``
     The registered model types with their classes.
-``.. polind-data-licence:: FILE``
-    The text of a licence file of the data polind installs
-    (``polind.datasets.data_folder() / FILE``), as a literal block.
+``.. polind-data-licence:: FILE`` and ``.. polind-data-file:: FILE``
+    The text of a licence file, or any file, of the data polind installs
+    (``polind.datasets.data_folder() / FILE``), as a literal block (option
+    ``:language:``, default ``text``).
 
 Besides: the API pages of the public names (``write_api_pages``, called from
 ``conf.py`` before the sources are read, so autosummary sees them), the
@@ -460,24 +461,27 @@ WHOLE_PACKAGES = ("polind.identification", "polind.io")
 
 
 class DataLicence(SphinxDirective):
-    """A licence file of the shipped data (:mod:`polind.datasets`), as a literal block.
+    """A file of the shipped data (:mod:`polind.datasets`), as a literal block.
 
-    Read from the polind being documented, so the page shows the licence installed
-    beside the data, wherever the documentation sources are copied.
+    Read from the polind being documented, so the page shows the file installed
+    beside the data, wherever the documentation sources are copied.  The option
+    ``:language:`` (default ``text``) highlights it (``toml`` for a data
+    description).
     """
 
     required_arguments = 1
+    option_spec = {"language": directives.unchanged}
 
     def run(self):
         from polind import datasets
 
         path = datasets.data_folder() / self.arguments[0]
         if not path.is_file():
-            raise self.error(f"polind-data-licence: no file {path}")
+            raise self.error(f"{self.name}: no file {path}")
         self.env.note_dependency(str(path))
         text = path.read_text(encoding="utf-8").rstrip()
         block = nodes.literal_block(text, text)
-        block["language"] = "text"
+        block["language"] = self.options.get("language", "text")
         return [block]
 
 
@@ -698,5 +702,6 @@ def setup(app):
     app.add_directive("polind-model-advice", ModelAdvice)
     app.add_directive("polind-default-model", DefaultModel)
     app.add_directive("polind-data-licence", DataLicence)
+    app.add_directive("polind-data-file", DataLicence)
     app.connect("build-finished", copy_mathjax)
     return {"version": "1", "parallel_read_safe": True, "parallel_write_safe": True}

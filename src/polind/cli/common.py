@@ -137,11 +137,12 @@ def advancing(bar):
 
 
 def read_samples(path, **columns):
-    """A motion or data file (CSV or Parquet), with a progress bar over its bytes."""
+    """A motion or data file (CSV or Parquet, or a data description of an instrument's
+    file: :func:`polind.io.read_record`), with a progress bar over its bytes."""
     from polind import io
 
     with progress(description="read", unit="B", unit_scale=True) as bar:
-        return io.read_motion_csv(path, progress=advancing(bar), **columns)
+        return io.read_record(path, progress=advancing(bar), **columns)
 
 
 def write_samples(path, columns):

@@ -32,7 +32,8 @@ def _starts_option(command):
 @cli.command()
 @model_argument
 @click.option("--data", "-d", "data_path", required=True, type=file_path(), metavar="DATA.csv",
-              help="Measured t, one of x [m] / v [m/s], F [N], optionally normal_load [N].")
+              help="Measured t, one of x [m] / v [m/s], F [N], optionally normal_load [N]; "
+                   "or a data description (.toml) of an instrument's file.")
 @output_option
 @click.option("--plot", "plot_path", default=None, type=file_path(), metavar="FILE",
               help="Also write a PNG of measured against fitted force.")
@@ -52,12 +53,13 @@ def fit(model_path, data_path, output_path, plot_path, holdout, starts):
     from polind import identification, io
     from polind.models import read_model_document
 
-    refuse_overwriting_inputs([model_path, data_path],
+    data_files = io.record_files(data_path)      # a data description names its file
+    refuse_overwriting_inputs([model_path, *data_files],
                               {"--output": output_path, "--plot": plot_path})
     with blame(model_path):
         document = read_model_document(model_path)
         model, free, bounds = identification.parse_fit(document)
-    io.check_table_memory(data_path, identification.fit_bytes_per_sample(model, free),
+    io.check_table_memory(data_files[-1], identification.fit_bytes_per_sample(model, free),
                           f"fitting {len(free)} free key{'s' if len(free) != 1 else ''} to")
     data = read_samples(data_path, **io.MEASUREMENT_COLUMNS)
     with progress(description="fit", unit=" simulations") as bar:
@@ -84,7 +86,8 @@ def fit(model_path, data_path, output_path, plot_path, holdout, starts):
 @cli.command()
 @click.argument("model_paths", metavar="MODEL...", nargs=-1, required=True, type=file_path())
 @click.option("--data", "-d", "data_path", required=True, type=file_path(), metavar="DATA.csv",
-              help="Measured t, one of x [m] / v [m/s], F [N], optionally normal_load [N].")
+              help="Measured t, one of x [m] / v [m/s], F [N], optionally normal_load [N]; "
+                   "or a data description (.toml) of an instrument's file.")
 @_holdout_option
 @click.option("--output", "-o", "output_path", default=None, type=file_path(),
               metavar="TABLE.csv", help="Also write the table as CSV ('-': standard output).")
@@ -107,7 +110,8 @@ def compare(model_paths, data_path, holdout, output_path, plot_path, starts):
     from polind import identification, io
     from polind.models import read_model_document
 
-    refuse_overwriting_inputs([*model_paths, data_path],
+    data_files = io.record_files(data_path)      # a data description names its file
+    refuse_overwriting_inputs([*model_paths, *data_files],
                               {"--output": output_path, "--plot": plot_path})
     stems = [Path(path).stem for path in model_paths]
     documents = {}
@@ -120,7 +124,7 @@ def compare(model_paths, data_path, holdout, output_path, plot_path, starts):
             documents[label] = read_model_document(path)
             model, free, _ = identification.parse_fit(documents[label])
         per_sample = max(per_sample, identification.fit_bytes_per_sample(model, free))
-    io.check_table_memory(data_path, per_sample, "fitting the models to")
+    io.check_table_memory(data_files[-1], per_sample, "fitting the models to")
     data = read_samples(data_path, **io.MEASUREMENT_COLUMNS)
     with progress(total=len(documents), description="compare", unit=" models") as bar:
         def advance(done, total, label):

@@ -17,23 +17,27 @@ from polind.errors import InputError
 @click.option("--input", "-i", "motion_path", required=True, type=file_path(),
               metavar="MOTION.csv",
               help="Prescribed motion: header with t and one of x [m], v [m/s]; "
-                   "optionally normal_load [N] (pol-ind).")
+                   "optionally normal_load [N] (pol-ind); or a data description (.toml) of "
+                   "an instrument's file.")
 @output_option
 def simulate(model_path, motion_path, output_path):
     """Friction force along a prescribed motion.
 
     Writes OUT.csv with the header t,x,v,F (SI units, full float precision);
     MOTION and OUT may be Parquet files (.parquet), OUT may be - (stdout).
+    MOTION may be a data description (.toml): an instrument's file, its
+    columns, units, sign and window.
     """
     import polind
     from polind import io
     from polind.simulation import BYTES_PER_SAMPLE
 
-    refuse_overwriting_inputs([model_path, motion_path], {"--output": output_path})
+    motion_files = io.record_files(motion_path)  # a data description names its file
+    refuse_overwriting_inputs([model_path, *motion_files], {"--output": output_path})
     check_output_path(output_path)
     model = load_model(model_path)
-    io.check_table_memory(motion_path, BYTES_PER_SAMPLE, "simulating")
-    motion = read_samples(motion_path)
+    io.check_table_memory(motion_files[-1], BYTES_PER_SAMPLE, "simulating")
+    motion = read_samples(motion_path, **io.MOTION_COLUMNS)
     with blame(motion_path), progress(total=len(motion["t"]), description="simulate",
                                       unit=" samples") as bar:
         result = polind.simulate(model, motion["t"], x=motion.get("x"), v=motion.get("v"),

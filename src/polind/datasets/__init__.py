@@ -22,8 +22,9 @@ of the SurfaceTopography project, both MIT-licensed; each licence is a file
 beside its data, and ``README.md`` in the folder of :func:`data_folder` says
 where each record came from and what it holds.
 
-Importing this module imports NumPy only; a height map imports
-SurfaceTopography when it is read.
+Importing this module imports NumPy only; the tribometer record imports the
+unit library pint when it is first read (:func:`polind.io.read_record`), a
+height map SurfaceTopography.
 """
 
 from __future__ import annotations
@@ -45,14 +46,8 @@ _DATA = Path(__file__).resolve().parent / "data"
 #: Surf (sur) map of 563 x 484 points at 3.48 µm with missing points, about 17 nm rms.
 HEIGHT_MAPS = ("x3p-2.x3p", "sur-2.sur")
 
-# The raw file's columns, its units and the loaded window; the same as the data
-# description tribometer_reciprocating.toml (tests/test_datasets.py checks it).
 _TRIBOMETER_FILE = "tribometer_reciprocating.tsv"
 _TRIBOMETER_DESCRIPTION = "tribometer_reciprocating.toml"
-_COLUMNS = {"t": "Time [s]", "x": "Position [mm]", "F": "Friction [uN]",
-            "normal_load": "Normal [uN]"}
-_SCALE = {"t": 1.0, "x": 1e-3, "F": -1e-6, "normal_load": 1e-6}   # to s, m, N (F sign flipped), N
-_WINDOW = (6.789, 210.784)        # s: first and last sample loaded to half the median load
 
 
 def data_folder() -> Path:
@@ -91,7 +86,8 @@ def tribometer_description_path() -> Path:
     delimiter, the column of each of ``t``, ``x``, ``F``, ``normal_load``,
     their units (``mm``, ``uN``), the sign of ``F`` (-1), the columns zeroed at
     the first kept sample (``x``) and the window of time kept [s]: what
-    :func:`tribometer` applies.
+    :func:`tribometer` reads.  Give it to ``polind fit --data`` or
+    ``polind compare --data``, or to :func:`polind.io.read_record`.
 
     Returns
     -------
@@ -103,18 +99,9 @@ def tribometer_description_path() -> Path:
 
 @functools.lru_cache(maxsize=1)
 def _tribometer() -> dict[str, np.ndarray]:
-    path = tribometer_path()
-    with open(path, encoding="utf-8") as stream:
-        header = [name.strip() for name in stream.readline().rstrip("\n").split("\t")]
-    missing = [name for name in _COLUMNS.values() if name not in header]
-    if missing:                                    # pragma: no cover - the file is shipped
-        raise InputError(f"{path}: has no column {missing[0]!r}; expected {header}")
-    table = np.loadtxt(path, delimiter="\t", skiprows=1, dtype=np.float64, ndmin=2)
-    t = table[:, header.index(_COLUMNS["t"])]
-    keep = (t >= _WINDOW[0]) & (t <= _WINDOW[1])
-    record = {key: table[keep, header.index(column)] * _SCALE[key]
-              for key, column in _COLUMNS.items()}
-    record["x"] = record["x"] - record["x"][0]
+    from polind.io import read_record
+
+    record = read_record(tribometer_description_path(), require=("t", "x", "F", "normal_load"))
     for array in record.values():
         array.flags.writeable = False
     return record
@@ -128,8 +115,9 @@ def tribometer() -> dict[str, np.ndarray]:
     5.0 N (the median; it is ramped up and released at the ends), friction
     about +-2.5 N.  Kept: the samples from 6.789 s to 210.784 s, the first
     and the last with a normal load of at least half its median (40,800
-    samples every 5 ms).  The raw file is read once; each call returns new
-    arrays.
+    samples every 5 ms).  The raw file is read once, through its data
+    description (:func:`tribometer_description_path`) by
+    :func:`polind.io.read_record`; each call returns new arrays.
 
     Returns
     -------
@@ -145,7 +133,7 @@ def tribometer() -> dict[str, np.ndarray]:
     See Also
     --------
     tribometer_path : the raw file, in µN and mm.
-    tribometer_description_path : the same reading, as a data description.
+    tribometer_description_path : the data description this reading follows.
 
     Examples
     --------

@@ -5,8 +5,11 @@ optional ``[fit]``, TOML or JSON), one-degree-of-freedom system files
 (``[system]``, :ref:`formats-system`), and CSV tables of samples with a header
 row (``t`` and one of ``x``, ``v``; optionally ``normal_load``; ``F`` for
 measured data), or Parquet tables with the same columns when the name ends
-in ``.parquet``.  This package holds no physics: it reads, checks the shape of
-what it read, and writes.  The models validate their own parameters.
+in ``.parquet``; and records as an instrument writes them, in its own columns
+and units, read into SI units through a data description
+(:ref:`formats-data-description`).  This package holds no physics: it reads,
+checks the shape of what it read, and writes.  The models validate their own
+parameters.
 
 Big tables go at disk speed: pyarrow's C reader parses a CSV file of 1 MiB or
 more (Python's row-by-row reader takes any file it refuses, and names the bad
@@ -38,6 +41,7 @@ The package, a module per idea (every name below is importable from
     columns       the columns of a table of samples, and the rules on its values
     sizing        a table's rows before it is read; the memory check
     tables        reading tables: CSV (fast and careful readers) and Parquet
+    records       an instrument's record through its data description, in SI units
     output        the one safe writer (atomic_open) and the output checks
     table_output  writing tables: CSV to the bit, Parquet
 """
@@ -52,6 +56,13 @@ from polind.io.documents import (
     read_system_file,
     save_model,
     write_model_file,
+)
+from polind.io.records import (
+    DataDescription,
+    is_description,
+    read_description,
+    read_record,
+    record_files,
 )
 from polind.io.output import (
     STDOUT,
@@ -84,6 +95,12 @@ __all__ = [
     "MOTION_COLUMNS",
     "check_table_memory",
     "table_size",
+    # records: an instrument's file through its data description
+    "DataDescription",
+    "is_description",
+    "read_description",
+    "read_record",
+    "record_files",
     # tables: reading them
     "read_csv_columns",
     "read_heights_csv",

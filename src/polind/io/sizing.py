@@ -6,7 +6,8 @@ a pipe, whose data would be lost); :func:`check_table_memory` refuses, with an
 :class:`~polind.errors.InputError` naming the file, a table whose reading and
 use would pass :func:`polind.resources.memory_limit`.  :func:`header_line`
 finds a CSV file's header in its first :data:`HEADER_BYTES`, for the sizes
-here and for the fast reader of :mod:`polind.io.tables`.
+here and for the fast reader of :mod:`polind.io.tables`, and
+:func:`guess_delimiter` its field separator.
 """
 
 from __future__ import annotations
@@ -18,7 +19,8 @@ import stat
 from polind.io.columns import is_parquet
 from polind.resources import check_memory
 
-__all__ = ["HEADER_BYTES", "check_table_memory", "header_line", "table_size"]
+__all__ = ["DELIMITERS", "HEADER_BYTES", "check_table_memory", "guess_delimiter", "header_line",
+           "table_size"]
 
 
 #: A CSV file's header must lie in its first bytes, for its size and for the fast reader.
@@ -53,6 +55,27 @@ def header_line(prefix):
         if text.strip():
             return row, text, after
         row, start = row + 1, after
+
+
+#: The delimiters :func:`guess_delimiter` recognises in a header, preferred in this
+#: order when a header holds as many of two of them.
+DELIMITERS = ("\t", ",", ";")
+
+
+def guess_delimiter(header: str) -> str:
+    """The delimiter of a table from its header line: the most frequent of :data:`DELIMITERS`.
+
+    A header without any of them (a single column) is taken as comma-separated.
+
+    Examples
+    --------
+    >>> guess_delimiter("Time [s]\\tNormal [uN]\\tPosition [mm]")
+    '\\t'
+    >>> guess_delimiter("t;x;F")
+    ';'
+    """
+    counts = [header.count(delimiter) for delimiter in DELIMITERS]
+    return DELIMITERS[counts.index(max(counts))] if max(counts) else ","
 
 
 # Memory of reading a table [bytes]: the fast readers' peak per number (pyarrow's table and
@@ -91,7 +114,7 @@ def table_size(path) -> tuple[int, int, bool]:
     if header is None:
         return 0, 0, True
     _, text, offset = header
-    columns = text.count(",") + 1
+    columns = text.count(guess_delimiter(text)) + 1
     body = prefix[offset:].replace(b"\r\n", b"\n").replace(b"\r", b"\n")
     if len(prefix) == size:
         return sum(1 for line in body.split(b"\n") if line.strip()), columns, True

@@ -4,7 +4,15 @@
 table (:func:`read_parquet_columns`) when the name ends in ``.parquet``,
 under the rules of :mod:`polind.io.columns`; :func:`read_motion_csv` reads a
 motion or measured-data file (``t`` increasing, at least two rows) and
-:func:`read_heights_csv` a file of summit heights.
+:func:`read_heights_csv` a file of summit heights.  :func:`read_table_columns`
+is the reader under them all: the columns a caller picks from the header of
+a delimited text (comma, tab, semicolon...) or Parquet file, as float64
+arrays, with the rows to name in a message; :mod:`polind.io.records` reads an
+instrument's file through it.
+
+Files are read as spreadsheets write them: a byte-order mark, ``\\r\\n`` line
+ends, blank lines (trailing or between rows) and numbers in double quotes
+(``"1.5"``) are read as lines and numbers.
 
 Big tables go at disk speed: pyarrow's C reader parses a CSV file of 1 MiB or
 more (Python's row-by-row reader takes any file it refuses, and names the bad
@@ -17,6 +25,7 @@ spreadsheet's row number points at the offending row.
 
 from __future__ import annotations
 
+import csv
 import os
 import stat
 
@@ -30,66 +39,86 @@ from polind.io.columns import (
     expected_columns,
     is_parquet,
 )
-from polind.io.sizing import HEADER_BYTES, check_table_memory, header_line
+from polind.io.sizing import HEADER_BYTES, check_table_memory, guess_delimiter, header_line
 from polind.io.text import read_text
 from polind.resources import check_memory
 
-__all__ = ["read_csv_columns", "read_heights_csv", "read_motion_csv", "read_parquet_columns"]
+__all__ = ["read_csv_columns", "read_heights_csv",
+           "read_motion_csv", "read_parquet_columns", "read_table_columns"]
+
+_DELIMITER_NAMES = {"\t": "tab", ",": "comma", ";": "semicolon", " ": "space"}
 
 
-def _parse_rows(name, columns, rows) -> np.ndarray:
-    """The data rows as an (n_rows, n_columns) float64 array.
+def _fields(line: str, delimiter: str) -> list[str]:
+    """The fields of a line, whitespace stripped and double quotes removed (``"1.5"``)."""
+    if '"' in line:
+        try:
+            return [field.strip() for field in
+                    next(csv.reader([line], delimiter=delimiter, skipinitialspace=True))]
+        except csv.Error:     # a field too long for the csv module: not a number either
+            pass
+    return [field.strip() for field in line.split(delimiter)]
 
-    numpy's parser takes the common case at C speed; if it refuses anything,
-    the rows are read one by one to name the first bad row and column.
+
+def _parse_rows(name, columns, kept, rows, delimiter) -> np.ndarray:
+    """The ``kept`` columns of the data rows as an (n_rows, n_kept) float64 array.
+
+    numpy's parser takes the common case (every field a number, no quotes) at
+    C speed; if it refuses anything, the rows are read one by one to name the
+    first bad row and column.
     """
+    indices = [columns.index(column) for column in kept]
     try:
-        values = np.loadtxt([line for _, line in rows], delimiter=",", comments=None,
+        values = np.loadtxt([line for _, line in rows], delimiter=delimiter, comments=None,
                             dtype=np.float64, ndmin=2)
         if values.shape == (len(rows), len(columns)):
-            return values
+            return values[:, indices]
     except ValueError:
         pass
-    values = np.empty((len(rows), len(columns)))
+    separated = _DELIMITER_NAMES.get(delimiter, repr(delimiter))
+    values = np.empty((len(rows), len(kept)))
     for index, (row, line) in enumerate(rows):
-        fields = line.split(",")
+        fields = _fields(line, delimiter)
         if len(fields) != len(columns):
-            raise InputError(f"{name}: row {row}: expected {len(columns)} comma-separated "
-                             f"fields ({','.join(columns)}), got {len(fields)}")
-        for column_index, (column, text) in enumerate(zip(columns, fields)):
-            text = text.strip()
+            listed = delimiter.join(columns) if delimiter != "\t" else ", ".join(columns)
+            raise InputError(f"{name}: row {row}: expected {len(columns)} {separated}-separated "
+                             f"fields ({listed}), got {len(fields)}")
+        for value_index, (column, column_index) in enumerate(zip(kept, indices)):
+            text = fields[column_index]
             try:
                 if "_" in text:  # float() accepts 1_000; a data file should not
                     raise ValueError(text)
-                values[index, column_index] = float(text)
+                values[index, value_index] = float(text)
             except ValueError:
                 raise InputError(f"{name}: row {row}, column '{column}': expected a number, "
                                  f"got {describe(text)}") from None
     return values
 
 
-def _read_csv_carefully(name, require, one_of, optional, min_rows):
-    """Python's reader: the columns, and the line number of every data row.
+def _read_csv_carefully(name, select, expected, min_rows, delimiter=","):
+    """Python's reader: the columns ``select`` keeps, and the line number of every data row.
 
     It names the first bad row and column of any file, and it is the
-    reference the fast reader must agree with.
+    reference the fast reader must agree with.  ``delimiter`` None: guessed
+    from the header; ``expected``: the columns in words, for an empty file.
     """
     lines = read_text(name).split("\n")
     rows = [(number, line) for number, line in enumerate(lines, start=1) if line.strip()]
     if not rows:
         raise InputError(f"{name}: the file is empty; expected a header row with the columns "
-                         f"{expected_columns(require, one_of, optional)}")
+                         f"{expected}")
     (header_row, header), rows = rows[0], rows[1:]
-    columns = [column.strip() for column in header.split(",")]
-    check_header(name, header_row, columns, require, one_of, optional)
+    delimiter = delimiter or guess_delimiter(header)
+    columns = _fields(header, delimiter)
+    kept = select(name, header_row, columns)
     if not rows:
         raise InputError(f"{name}: no data rows after the header (row {header_row}); "
                          f"expected at least {min_rows} row{'s' if min_rows != 1 else ''} "
                          f"of numbers")
-    values = _parse_rows(name, columns, rows)
+    values = _parse_rows(name, columns, kept, rows, delimiter)
     row_numbers = [row for row, _ in rows]
     del rows, lines
-    table = {column: np.ascontiguousarray(values[:, j]) for j, column in enumerate(columns)}
+    table = {column: np.ascontiguousarray(values[:, j]) for j, column in enumerate(kept)}
     return table, row_numbers
 
 
@@ -102,14 +131,15 @@ _FAST_READ_BYTES = 1 << 20
 _CAREFUL_READ_BYTES_PER_BYTE = 6
 
 
-def _read_csv_fast(name, require, one_of, optional, progress=None):
-    """pyarrow's C reader: the columns of a big well-formed file, else None.
+def _read_csv_fast(name, select, delimiter=",", progress=None):
+    """pyarrow's C reader: the columns ``select`` keeps of a big well-formed file, else None.
 
     None means "read it carefully": a file that is small or not a regular
     file, a header that is not where this reader looks or has a mistake, and
     any row pyarrow refuses (it parses numbers exactly as ``float`` does, but
-    refuses more: quotes, whitespace-only lines, ``1_000``...).  Truly empty
-    lines are skipped, as the careful reader skips them.
+    refuses more: whitespace, whitespace-only lines, ``1_000``...).  Truly
+    empty lines are skipped, as the careful reader skips them; a field in
+    double quotes is read without them, as the careful reader reads it.
     """
     try:
         # Looked at before opening: a pipe opened here would lose what it carries.
@@ -123,9 +153,10 @@ def _read_csv_fast(name, require, one_of, optional, progress=None):
     if header is None:
         return None
     header_row, text, offset = header
-    columns = [column.strip() for column in text.split(",")]
+    delimiter = delimiter or guess_delimiter(text)
     try:
-        check_header(name, header_row, columns, require, one_of, optional)
+        columns = _fields(text, delimiter)
+        kept = select(name, header_row, columns)
     except InputError:
         return None                               # named by the careful reader, as it always was
 
@@ -141,11 +172,14 @@ def _read_csv_fast(name, require, one_of, optional, progress=None):
             reader = pacsv.open_csv(
                 source,
                 read_options=pacsv.ReadOptions(column_names=columns, block_size=1 << 21),
-                parse_options=pacsv.ParseOptions(delimiter=",", quote_char=False,
-                                                  escape_char=False, ignore_empty_lines=True),
+                parse_options=pacsv.ParseOptions(delimiter=delimiter, quote_char='"',
+                                                  double_quote=True, escape_char=False,
+                                                  newlines_in_values=False,
+                                                  ignore_empty_lines=True),
                 convert_options=pacsv.ConvertOptions(
-                    column_types={column: float64 for column in columns}, null_values=[],
-                    strings_can_be_null=False, quoted_strings_can_be_null=False))
+                    column_types={column: float64 for column in kept}, include_columns=kept,
+                    null_values=[], strings_can_be_null=False,
+                    quoted_strings_can_be_null=False))
             for batch in reader:
                 batches.append(batch)
                 if progress is not None:
@@ -156,9 +190,7 @@ def _read_csv_fast(name, require, one_of, optional, progress=None):
         return None
     held = [pa.Table.from_batches(batches)]
     del batches, reader
-    return _numpy_columns(held, columns)
-
-
+    return _numpy_columns(held, kept)
 def _numpy_columns(held, columns):
     """The columns of the pyarrow table in ``held`` (a list, emptied: the table is freed a
     column at a time) as writeable float64 arrays."""
@@ -199,6 +231,79 @@ def _csv_row_lines(name, indices):
 
 
 
+def read_table_columns(path, select, expected, *, delimiter=",", min_rows=1, progress=None):
+    """Read the columns a caller picks from the header of a text or Parquet table.
+
+    The reader under every table of polind: :func:`read_csv_columns` picks
+    the columns of a motion or data file, :func:`polind.io.read_record` those
+    a data description names.  The values are not checked (a caller checks
+    the rows it keeps, with :func:`polind.io.columns.check_values`).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A text file with a header row, then one row of numbers per sample
+        (blank lines skipped, whitespace around names and numbers ignored,
+        fields in double quotes read without them), or a Parquet file when
+        the name ends in ``.parquet``.
+    select : callable
+        ``select(name, row, columns)`` is given the file's name, the header's
+        line number (None for Parquet) and the header's column names; it
+        returns the names to read, each once, or raises
+        :class:`~polind.errors.InputError` naming what is wrong.
+    expected : str
+        The columns in words (``"t, one of x or v"``), for the message on an
+        empty file.
+    delimiter : str or None
+        The field separator of a text file (one character); None: guessed
+        from the header (:func:`polind.io.sizing.guess_delimiter`).
+    min_rows : int
+        The fewest data rows the caller needs, for the message on a file
+        without any.
+    progress : callable, optional
+        ``progress(done, total)`` [bytes of the file], as the file is read.
+
+    Returns
+    -------
+    columns : dict of str to numpy.ndarray
+        The columns ``select`` returned, each a 1-D float64 array, read to
+        the bit (``float`` of each field).  Non-finite values are included.
+    rows_of : callable
+        ``rows_of(indices)``: the rows of the file (lines of a text file,
+        the header being row 1; rows from 1 in a Parquet file) of array
+        indices, for a message.
+
+    Raises
+    ------
+    InputError
+        Naming the file and the row or column: a missing, empty or unreadable
+        file, no data rows, a row with the wrong number of fields, text where
+        a number was expected, and whatever ``select`` raises.
+    """
+    name = os.fspath(path)
+    if is_parquet(name):
+        return _read_parquet(name, select, min_rows, progress)
+    check_table_memory(name)
+    table = _read_csv_fast(name, select, delimiter, progress)
+    if table is not None:
+        if all(np.isfinite(values).all() for values in table.values()):
+            _report_read(name, progress)
+            return table, lambda indices: _csv_row_lines(name, indices)
+        del table     # a NaN or an infinity: named by the careful reader as the text has it
+    _check_careful_memory(name)
+    table, row_numbers = _read_csv_carefully(name, select, expected, min_rows, delimiter)
+    _report_read(name, progress)
+    return table, lambda indices: [row_numbers[index] for index in indices]
+
+
+def _checked_header(require, one_of, optional):
+    """A ``select`` of :func:`read_table_columns`: every column, by the rules of a header."""
+    def select(name, row, columns):
+        check_header(name, row, columns, require, one_of, optional)
+        return columns
+    return select
+
+
 def read_csv_columns(path, require, one_of=(), optional=(), *, min_rows=1,
                      increasing=None, positive=(), progress=None) -> dict[str, np.ndarray]:
     """Read a CSV table of numbers with a header row, checking its columns.
@@ -211,7 +316,9 @@ def read_csv_columns(path, require, one_of=(), optional=(), *, min_rows=1,
     path : str or os.PathLike
         The CSV file: a header row naming the columns, then one row of numbers
         per sample, fields separated by commas.  Blank lines are skipped;
-        whitespace around names and numbers is ignored.
+        whitespace around names and numbers is ignored; a name or number in
+        double quotes (``"1.5"``, as spreadsheets write them) is read
+        without them; a byte-order mark and ``\\r\\n`` line ends are read.
     require : sequence of str
         Columns that must be present.
     one_of : sequence of str
@@ -252,22 +359,15 @@ def read_csv_columns(path, require, one_of=(), optional=(), *, min_rows=1,
     value and every message.
     """
     name = os.fspath(path)
-    rules = {"min_rows": min_rows, "increasing": increasing, "positive": positive}
+    select = _checked_header(require, one_of, optional)
     if is_parquet(name):
-        return read_parquet_columns(name, require, one_of, optional, progress=progress, **rules)
-    check_table_memory(name)
-    table = _read_csv_fast(name, require, one_of, optional, progress)
-    if table is not None:
-        if all(np.isfinite(values).all() for values in table.values()):
-            check_values(name, table, lambda indices: _csv_row_lines(name, indices), **rules)
-            _report_read(name, progress)
-            return table
-        del table     # a NaN or an infinity: named by the careful reader as the text has it
-    _check_careful_memory(name)
-    table, row_numbers = _read_csv_carefully(name, require, one_of, optional, min_rows)
-    check_values(name, table, lambda indices: [row_numbers[index] for index in indices],
-                  **rules)
-    _report_read(name, progress)
+        return read_parquet_columns(name, require, one_of, optional, min_rows=min_rows,
+                                    increasing=increasing, positive=positive,
+                                    progress=progress)
+    table, rows_of = read_table_columns(name, select, expected_columns(require, one_of, optional),
+                                        min_rows=min_rows, progress=progress)
+    check_values(name, table, rows_of, min_rows=min_rows, increasing=increasing,
+                 positive=positive)
     return table
 
 
@@ -280,8 +380,8 @@ def _check_careful_memory(name):
     if size >= _FAST_READ_BYTES:
         check_memory(size * _CAREFUL_READ_BYTES_PER_BYTE,
                      f"{name}: reading its {size / 1e6:.3g} MB row by row (a row that the "
-                     f"fast reader does not take, such as a nan, a quote or a blank line "
-                     f"with spaces)")
+                     f"fast reader does not take, such as a nan, spaces around a "
+                     f"number or a blank line with spaces)")
 
 
 def _report_read(name, progress):
@@ -315,6 +415,15 @@ def read_parquet_columns(path, require, one_of=(), optional=(), *, min_rows=1,
     array([0.e+00, 1.e-06])
     """
     name = os.fspath(path)
+    table, rows_of = _read_parquet(name, _checked_header(require, one_of, optional), min_rows,
+                                   progress)
+    check_values(name, table, rows_of, min_rows=min_rows, increasing=increasing,
+                 positive=positive)
+    return table
+
+
+def _read_parquet(name, select, min_rows, progress):
+    """The columns ``select`` keeps of a Parquet file, and ``rows_of`` (rows from 1)."""
     try:
         info = os.stat(name)
     except FileNotFoundError:
@@ -336,9 +445,9 @@ def read_parquet_columns(path, require, one_of=(), optional=(), *, min_rows=1,
         raise InputError(f"{name}: not a Parquet file ({exc})") from None
     try:
         schema = parquet.schema_arrow
-        columns = list(schema.names)
-        check_header(name, None, columns, require, one_of, optional)
-        for field in schema:
+        columns = select(name, None, list(schema.names))
+        for column in columns:
+            field = schema.field(column)
             if not (pa.types.is_integer(field.type) or pa.types.is_floating(field.type)):
                 raise InputError(f"{name}: column '{field.name}': expected numbers, "
                                  f"got values of type {field.type}")
@@ -370,12 +479,8 @@ def read_parquet_columns(path, require, one_of=(), optional=(), *, min_rows=1,
     held = [table]
     del table
     table = _numpy_columns(held, columns)
-    check_values(name, table, lambda indices: [int(index) + 1 for index in indices],
-                  min_rows=min_rows, increasing=increasing, positive=positive)
     _report_read(name, progress)
-    return table
-
-
+    return table, lambda indices: [int(index) + 1 for index in indices]
 def read_motion_csv(path, require=MOTION_COLUMNS["require"], one_of=MOTION_COLUMNS["one_of"],
                     optional=MOTION_COLUMNS["optional"], *,
                     positive=("normal_load",), progress=None) -> dict[str, np.ndarray]:
