@@ -148,7 +148,8 @@ def build_contact(params: Mapping, base_dir=None, *, surface=None) -> Contact:
         ``normal_load`` [N], ``static_coefficient`` [-],
         ``surface`` = {``asperity_density`` [1/m^2], ``nominal_area`` [m^2],
         ``asperity_radius`` [m], ``height_std`` [m]},
-        ``materials`` = {``youngs_modulus`` [Pa, Pa], ``poisson_ratio`` [-, -]},
+        ``materials`` = {``youngs_modulus`` [Pa, Pa], ``poisson_ratio`` [-, -],
+        optionally ``hardness`` [Pa] or ``yield_strength`` [Pa]},
         ``discretisation`` = {``summation`` ("statistical" or "direct"),
         ``elements`` (bins, statistical), ``seed`` (direct, sampled),
         ``heights_file`` (direct, measured)}, as a validated pol-ind model

@@ -53,6 +53,14 @@ the table's stiffness is coarser (with 64 bins built at 100 N: 0.03 % low at
 :meth:`ElementTable.as_surface` gives the alternative of solving ``d(t)`` on
 the table itself.
 
+Elastic-plastic asperities (a surface with a hardness,
+:ref:`guide-pol-ind-plasticity`): ``k_j = n_j 8 G* a(delta_j)`` with
+``a = sqrt(A / pi)`` and ``W_j = n_j mu_s P(delta_j)`` of the Kogut–Etsion
+law; statistical bins are edged at the law's range boundaries and their
+two-point rules placed so that count, stiffness, area and load are all
+exact; a direct table has one element per summit group of one height and
+one radius, each with its own radius (the ``radii`` of :class:`ElementTable`).
+
 See the user guide: :ref:`guide-pol-ind-elements`.
 """
 

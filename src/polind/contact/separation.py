@@ -40,6 +40,16 @@ Loads the surface cannot carry are :class:`polind.InputError`:
   bracket's lower end is where the highest summit alone would carry the
   load, ``h_max - (N / (c_max (4/3) E* sqrt(R)))^(2/3)``.
 
+A surface with elastic-plastic asperities (a hardness,
+:ref:`guide-pol-ind-plasticity`) is solved by the same iteration on its
+elastic-plastic load (:mod:`polind.kernels.plastic_separation`), started
+from the same guess.  A direct sum of such summits jumps where a summit
+crosses a Kogut–Etsion range boundary: a load inside a jump has no
+separation, and the iteration stops at the jump (bracket narrower than
+``1e-12 sigma_a``), at the best separation it evaluated;
+:func:`polind.contact.build_contact` reports the load left over as the
+contact's ``unmatched_load``.
+
 See the user guide: :ref:`guide-pol-ind-separation`.
 """
 

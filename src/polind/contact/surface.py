@@ -14,7 +14,12 @@ between the flat and the mean summit height:
 Each offers ``normal_load(d)``, its slope ``normal_load_slope(d)`` (= dN/dd,
 negative), ``contacts(d)`` and ``real_area(d)``, vectorised over ``d``, and
 the scalar ``load_and_slope(d)`` that the separation solver
-(:mod:`polind.contact.separation`) iterates on.
+(:mod:`polind.contact.separation`) iterates on.  With a
+:class:`~polind.contact.plasticity.Plasticity` (``plasticity=``, or
+:meth:`~polind.contact.plasticity.ElasticPlasticSums.with_plasticity`) the
+asperities are elastic-plastic and these totals are those of
+:mod:`polind.contact.plasticity` (:ref:`guide-pol-ind-plasticity`); the
+``hertz_*`` methods are always the Hertzian ones.
 
 See the user guide: :ref:`guide-pol-ind-surface` and
 :ref:`guide-pol-ind-summation`.
@@ -69,6 +74,9 @@ class StatisticalSurface(ElasticPlasticSums):
     E_star, G_star : float
         Effective normal and tangential moduli [Pa]
         (:func:`polind.contact.materials.effective_moduli`).
+    plasticity : polind.contact.plasticity.Plasticity, optional
+        The rough body's hardness: elastic-plastic asperities
+        (:ref:`guide-pol-ind-plasticity`); default Hertzian.
 
     Notes
     -----
@@ -201,6 +209,11 @@ class DirectSurface(ElasticPlasticSums):
     radii : array_like, optional
         Each summit's own radius ``R_i`` [m] (default: ``asperity_radius``
         for all).
+    plasticity : polind.contact.plasticity.Plasticity, optional
+        The rough body's hardness: elastic-plastic asperities, each summit
+        with its own critical interference (:ref:`guide-pol-ind-plasticity`;
+        beyond yield the Hertz weights below no longer hold, and the sums
+        run over :attr:`plastic_summits`); default Hertzian.
 
     Attributes
     ----------
@@ -412,7 +425,7 @@ class DirectSurface(ElasticPlasticSums):
 
         What the elastic-plastic sums run on
         (:func:`polind.contact.heights.summit_groups`); for summits of one
-        radius, :attr:`heights` and :attr:`counts` with ``R`` for every radius.
+        radius, ``heights`` and ``counts`` with ``R`` for every radius.
         """
         if self._given is None:
             return self.heights, self.counts, np.full(self.heights.size, self.asperity_radius)

@@ -15,7 +15,7 @@ The differences from the elastic iteration:
   iteration also stops when its bracket is narrower than ``jump_width``
   (``1e-12 sigma_a``), at the best separation it evaluated, one side of the
   jump; the caller reports the load left unmatched
-  (:attr:`polind.contact.Contact.unmatched_load`);
+  (the ``unmatched_load`` of :class:`polind.contact.Contact`);
 - every start is a warm start (:func:`~polind.kernels.separation.predicted_start`
   from the previous solution), for a statistical surface too: its ``N(d)``
   is a quadrature, with no inverse table.
@@ -60,6 +60,7 @@ YIELD_COEFFICIENT = 8    # K [-]
 SMALLEST_RADIUS = 9      # direct: the smallest summit radius [m]
 JUMP_WIDTH = 10          # direct: the narrowest bracket [m], 1e-12 sigma_a (statistical: 0)
 ADDRESSES = 11           # two slots: polind.kernels.special.special_addresses()
+#: Slots of the surface vector.
 SIZE = 13
 
 #: The narrowest bracket of a direct surface, as a fraction of its summit-height spread.

@@ -22,6 +22,12 @@ table's share rows lag its capacities row until a step at an unchanged load
 brings them up to date (:func:`refresh_shares`).  The forces are those of
 :func:`set_load` followed by the GMS step, to rounding.
 
+The separation and the element rows at a new load come from a *capacities
+function* (:func:`surface_capacities` and its two kinds); the functions
+named ``..._with`` take one as their first argument, so that the
+elastic-plastic step (:mod:`polind.kernels.pol_ind_plastic`) is this step
+with its own, and the Hertzian step compiles to what it was.
+
 Arrays
 ------
 ``scalars``: the GMS slots of :mod:`polind.kernels.elements` (0-6) and the
@@ -65,7 +71,9 @@ LOWER = 19                # statistical: lowest separation solved for [m]
 UPPER = 20                # highest separation solved for [m]
 HERTZ = 21                # direct: (4/3) E* sqrt(R)
 ADDRESSES = 22            # two slots: polind.kernels.special.special_addresses()
-TABLE_STALE = 24          # work: 1 while the weight rows lag the capacities (load_step)
+#: Scalar slot (work): 1 while the weight rows lag the capacities (:func:`load_step`).
+TABLE_STALE = 24
+#: Scalar slots of the Hertzian step.
 N_SCALARS = 25
 
 ELEMENT_SCRATCH = 3       # table row of capacities W_j [N] at the current load

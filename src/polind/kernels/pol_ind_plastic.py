@@ -41,11 +41,14 @@ __all__ = ["PLASTIC_SURFACE", "N_PLASTIC_SCALARS", "ELEMENT_ASPERITIES", "ELEMEN
            "N_PLASTIC_ROWS", "plastic_capacities", "plastic_step", "plastic_force", "plastic_path",
            "plastic_motion", "plastic_integrate", "plastic_body"]
 
-PLASTIC_SURFACE = N_SCALARS               # the surface vector's first slot
+#: The scalars' slot where the surface vector of :mod:`polind.kernels.plastic_separation` starts.
+PLASTIC_SURFACE = N_SCALARS
 N_PLASTIC_SCALARS = N_SCALARS + SIZE
 
-ELEMENT_ASPERITIES = N_ROWS               # table row of asperity counts n_j
-ELEMENT_RADIUS = N_ROWS + 1               # table row of summit radii R_j [m]
+#: The table's row of asperity counts ``n_j``.
+ELEMENT_ASPERITIES = N_ROWS
+#: The table's row of summit radii ``R_j`` [m].
+ELEMENT_RADIUS = N_ROWS + 1
 N_PLASTIC_ROWS = N_ROWS + 2
 
 
