@@ -242,24 +242,24 @@ def _upper_quantiles(s: float, fractions: np.ndarray) -> np.ndarray:
 
 
 def _snapped_edges(edges_u: np.ndarray, kinks) -> np.ndarray:
-    """The bin edges with the nearest interior edge moved onto each kink (lowest kink first).
+    """The bin edges with one interior edge given up for each kink, the kinks in their place.
 
-    Each kink takes the interior edge nearest to it that lies above the one
-    the previous kink took, so the edges stay ascending; a kink with no such
-    edge left (a table of very few bins) is skipped.
+    Each kink (lowest first) replaces the interior edge nearest to it that no
+    kink has replaced yet; the edges are then sorted, so the bins keep their
+    number and every kink is an edge (as many kinks as there are interior
+    edges, for a table of very few bins).
     """
-    edges = edges_u.copy()
-    taken = 0
+    interior = list(edges_u[1:])
+    placed = []
     for kink in kinks:
-        free = np.arange(taken + 1, edges.size)
-        if free.size == 0:
+        if not interior:
             break
-        index = int(free[np.argmin(np.abs(edges[free] - kink))])
-        if index + 1 < edges.size and kink >= edges[index + 1]:
-            continue
-        edges[index] = kink
-        taken = index
-    return edges
+        nearest = int(np.argmin(np.abs(np.asarray(interior) - kink)))
+        interior.pop(nearest)
+        placed.append(kink)
+    edges = np.sort(np.concatenate(([edges_u[0]], interior, placed)))
+    # An edge on a kink to the bit would leave an empty bin: keep the edges as they were.
+    return edges if np.all(np.diff(edges) > 0.0) else edges_u
 
 
 def _matched_rules(probability, variance, load_moment, load_power, mean, low_weight, low_node,

@@ -93,7 +93,10 @@ class PolInd(FrictionModel):
         direct summation; :meth:`statistical_equivalent` is the
         Greenwood–Williamson model of the same map.
     materials : table
-        ``youngs_modulus`` [E1, E2] [Pa], ``poisson_ratio`` [nu1, nu2].
+        ``youngs_modulus`` [E1, E2] [Pa], ``poisson_ratio`` [nu1, nu2], and
+        optionally the rough body's ``hardness`` H [Pa] or ``yield_strength``
+        Y [Pa] (``H = 2.8 Y``): elastic-plastic asperities (Kogut–Etsion,
+        :ref:`guide-pol-ind-plasticity`); without either they are Hertzian.
     discretisation : table
         ``summation`` "statistical" (``elements`` height bins) or "direct"
         (``seed`` for Gaussian summit heights, or ``heights_file``: a CSV
@@ -313,7 +316,9 @@ class PolInd(FrictionModel):
 
         mu_s = 0.15, mu_k = 0.10, vs = 1 mm/s, delta = 2, C = 1e4 N/s, sigma2 = 0;
         eta = 1e10 /m^2, A0 = 1e-4 m^2, R = 50 um, sigma_a = 0.5 um; E = 210 GPa and
-        nu = 0.3 for both bodies; 64 statistical elements (or ``elements``).
+        nu = 0.3 for both bodies, no hardness (Hertzian asperities: peak asperity
+        pressure 9.25 GPa, under the 10 GPa at which a Hertzian contact warns,
+        :ref:`guide-pol-ind-validity`); 64 statistical elements (or ``elements``).
         """
         return {
             "normal_load": 100.0,
