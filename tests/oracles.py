@@ -418,7 +418,7 @@ def simulate(model: dict, t, x=None, v=None, **options) -> OracleResult:
 
 
 def pol_ind_varying_load(t, x, load, heights, root_weights, separation_at, g_star, mu_s, mu_k,
-                         stribeck_velocity=1e-3, attraction=1e4):
+                         stribeck_velocity=1e-3, attraction=1e4, element_law=None):
     """Plain stepper of the Pol-Ind law under a time-varying normal load (positions ``x``).
 
     The elements are fixed in height (``heights``); at every sample the
@@ -428,6 +428,9 @@ def pol_ind_varying_load(t, x, load, heights, root_weights, separation_at, g_sta
     ``root_weights``), forces are clipped to ``alpha_j mu_s N``, an element out
     of contact (or just back) restarts stuck at zero, and the GMS rule with
     ``g(v) = N [mu_k + (mu_s - mu_k) exp(-(v / vs)^2)]`` advances the rest.
+    ``element_law(delta)``, if given, returns the stiffnesses and the loads
+    (any common scale) of the elements at the interferences ``delta`` instead
+    (elastic-plastic asperities).
     """
     force_el = np.zeros(heights.size)
     slipping = np.zeros(heights.size)
@@ -436,8 +439,11 @@ def pol_ind_varying_load(t, x, load, heights, root_weights, separation_at, g_sta
     for k in range(t.size):
         d = separation_at(load[k])
         delta = np.maximum(heights - d, 0.0)
-        stiffness = 8 * g_star * root_weights * np.sqrt(delta)
-        breakaway = root_weights * delta ** 1.5
+        if element_law is None:
+            stiffness = 8 * g_star * root_weights * np.sqrt(delta)
+            breakaway = root_weights * delta ** 1.5
+        else:
+            stiffness, breakaway = element_law(delta)
         alpha = breakaway / breakaway.sum()
         capacity = alpha * mu_s * load[k]
         now = delta > 0

@@ -39,7 +39,8 @@ def test_surface_json_is_the_contact_of_the_model(tmp_path, capsys):
     status, out, err = run(capsys, "surface", model_path, "--json")
     assert status == 0 and err == ""
     summary = json.loads(out)
-    assert set(summary) == {"separation", "contacts", "real_area", "normal_load", "elements"}
+    assert set(summary) == {"separation", "contacts", "real_area", "normal_load", "elements",
+                            "validity"}
     assert set(summary["elements"][0]) == {"stiffness", "breakaway_force", "asperities",
                                            "interference"}
     assert len(summary["elements"]) == 64
@@ -57,6 +58,46 @@ def test_surface_table_on_a_terminal_and_error_for_other_models(tmp_path, capsys
     status, out, err = run(capsys, "surface", other)
     assert status == 2 and out == ""
     one_error_line(err, "lugre.toml", "pol-ind")
+
+
+def test_surface_reports_the_validity_figures_with_and_without_a_hardness(tmp_path, capsys):
+    keys = {"plasticity_index", "plastic_load_share", "plastic_contact_share",
+            "mean_real_pressure", "peak_asperity_pressure", "unmatched_load"}
+    elastic = write_toml(tmp_path / "elastic.toml", {"model": default_table()})
+    status, out, err = run(capsys, "surface", elastic, "--json")
+    assert status == 0 and err == ""                       # the default model does not warn
+    validity = json.loads(out)["validity"]
+    assert set(validity) == keys
+    assert validity["plasticity_index"] is None
+    assert validity["plastic_load_share"] == validity["plastic_contact_share"] == 0.0
+    assert validity["mean_real_pressure"] == pytest.approx(100.0 / json.loads(out)["real_area"])
+    table = default_table()
+    table["materials"]["hardness"] = 4e9
+    plastic = write_toml(tmp_path / "plastic.toml", {"model": table})
+    status, out, err = run(capsys, "surface", plastic, "--json")
+    assert status == 0 and err == ""
+    validity = json.loads(out)["validity"]
+    assert validity == polind.load_model(plastic).contact().validity()
+    assert validity["plasticity_index"] == pytest.approx(115.38461538461539e9 / 4e9 * 0.1)
+    assert 0.0 < validity["plastic_contact_share"] < validity["plastic_load_share"] < 1.0
+    status, out, err = run(capsys, "surface", plastic)
+    assert status == 0 and err == ""
+    assert "plasticity index        2.885 (H = 4e+09 Pa" in out
+    assert "peak asperity pressure" in out and "unmatched load          0 N" in out
+
+
+def test_surface_warns_about_an_elastic_contact_beyond_its_validity(tmp_path, capsys):
+    table = default_table()
+    table["surface"]["height_std"] = 5e-6            # ten times rougher: a few GPa-loaded summits
+    model_path = write_toml(tmp_path / "rough.toml", {"model": table})
+    status, out, err = run(capsys, "surface", model_path, "--json")
+    assert status == 0
+    peak = json.loads(out)["validity"]["peak_asperity_pressure"]
+    assert peak > 10e9
+    assert err.count("\n") == 1 and err.startswith("polind: warning: ")
+    for fragment in ("peak_asperity_pressure", "mean_real_pressure", f"{peak / 1e9:.3g} GPa",
+                     "'materials.hardness'"):
+        assert fragment in err, (fragment, err)
 
 
 # --- dynamics -----------------------------------------------------------------------------

@@ -154,7 +154,9 @@ def _contact_parameters(change=None):
 def test_default_contact_summary():
     contact = build_contact(_contact_parameters())
     summary = contact.summary()
-    assert set(summary) == {"separation", "contacts", "real_area", "normal_load", "elements"}
+    assert set(summary) == {"separation", "contacts", "real_area", "normal_load", "elements", "validity"}
+    assert set(summary["validity"]) == {"plasticity_index", "plastic_contact_share", "plastic_load_share",
+                                        "mean_real_pressure", "peak_asperity_pressure", "unmatched_load"}
     assert json.loads(json.dumps(summary)) == summary
     assert summary["normal_load"] == 100.0
     assert len(summary["elements"]) == 64

@@ -19,8 +19,11 @@ def surface(model_path, as_json):
     """The contact mechanics of a Pol-Ind model: separation, contacts, real area, elements.
 
     With --json: an object with keys separation, contacts, real_area,
-    normal_load and elements (a list of {stiffness, breakaway_force,
-    asperities, interference}).
+    normal_load, elements (a list of {stiffness, breakaway_force,
+    asperities, interference}) and validity ({plasticity_index,
+    plastic_contact_share, plastic_load_share, mean_real_pressure,
+    peak_asperity_pressure, unmatched_load}).  An elastic (Hertzian) contact
+    with a peak asperity pressure above 10 GPa warns.
     """
     import json
 
@@ -46,6 +49,8 @@ def surface(model_path, as_json):
         f"  break-away     {sum(e['breakaway_force'] for e in summary['elements']):.6g} N "
         f"(mu_s N = {params['static_coefficient'] * summary['normal_load']:.6g} N)",
         "",
+        *_validity_lines(summary["validity"], surface.plasticity),
+        "",
         f"  {'element':>7}  {'stiffness [N/m]':>16}  {'breakaway [N]':>14}  "
         f"{'asperities':>11}  {'interference [m]':>17}",
     ]
@@ -53,6 +58,24 @@ def surface(model_path, as_json):
         lines.append(f"  {j:>7}  {element['stiffness']:>16.6g}  {element['breakaway_force']:>14.6g}"
                      f"  {element['asperities']:>11.6g}  {element['interference']:>17.6g}")
     click.echo("\n".join(lines))
+
+
+def _validity_lines(figures: dict, plasticity) -> list[str]:
+    """The validity figures of ``polind surface`` as lines of its table."""
+    if plasticity is None:
+        index = "none (no hardness: Hertzian asperities)"
+    else:
+        index = (f"{figures['plasticity_index']:.4g} (H = {plasticity.hardness:.4g} Pa; "
+                 f"below 0.6 mostly elastic, above 1 mostly plastic)")
+    return [
+        "Validity of the asperity law:",
+        f"  plasticity index        {index}",
+        f"  beyond yield            {100 * figures['plastic_contact_share']:.4g} % of the contacts, "
+        f"{100 * figures['plastic_load_share']:.4g} % of the load",
+        f"  mean real pressure      {figures['mean_real_pressure']:.6g} Pa",
+        f"  peak asperity pressure  {figures['peak_asperity_pressure']:.6g} Pa",
+        f"  unmatched load          {figures['unmatched_load']:.6g} N",
+    ]
 
 
 @cli.command()

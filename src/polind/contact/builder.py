@@ -19,11 +19,17 @@ from dataclasses import dataclass
 from polind.contact._checks import positive_number
 from polind.contact.elements import ElementTable, element_table
 from polind.contact.materials import effective_moduli
-from polind.contact.separation import solve_separation
+from polind.contact.plasticity import HARDNESS_PER_YIELD_STRENGTH, Plasticity
+from polind.contact.separation import RELATIVE_TOLERANCE, solve_separation
 from polind.contact.surface import DirectSurface, StatisticalSurface
+from polind.contact.validity import validity_figures, validity_warning
 from polind.errors import InputError, describe
 
-__all__ = ["Contact", "build_contact", "build_surface", "measured_surface"]
+__all__ = ["Contact", "build_contact", "build_surface", "measured_surface", "plasticity_of",
+           "PLASTIC_KEYS"]
+
+#: The keys of ``[model.materials]`` that make the asperities elastic-plastic.
+PLASTIC_KEYS = ("hardness", "yield_strength")
 
 class _Keys(dict):
     """A sub-table of the model table: a missing key is an InputError naming it."""
@@ -49,12 +55,17 @@ class Contact:
         Separation ``d`` [m] with ``N(d) = N_app`` (to 1e-10 relative).
     elements : ElementTable
         The modified Maxwell-slip elements at ``d``.
+    unmatched_load : float
+        ``N_app - N(d)`` [N] where the separation cannot meet the load
+        balance (a direct sum of elastic-plastic summits whose load jumps
+        across ``N_app``, :ref:`guide-pol-ind-plasticity`); 0 where it does.
     """
 
     surface: StatisticalSurface | DirectSurface
     normal_load: float
     separation: float
     elements: ElementTable
+    unmatched_load: float = 0.0
 
     @property
     def contacts(self) -> float:
@@ -66,12 +77,27 @@ class Contact:
         """Real contact area at the separation [m^2]."""
         return float(self.surface.real_area(self.separation))
 
+    def validity(self) -> dict:
+        """The validity figures of the contact (:ref:`guide-pol-ind-validity`).
+
+        ``plasticity_index`` (``None`` without a hardness),
+        ``plastic_contact_share``, ``plastic_load_share``, ``mean_real_pressure``
+        [Pa], ``peak_asperity_pressure`` [Pa] and ``unmatched_load`` [N]
+        (:func:`polind.contact.validity.validity_figures`).
+        """
+        return validity_figures(self)
+
+    def validity_warning(self) -> str | None:
+        """The warning of a Hertzian contact beyond its validity (peak pressure above 10 GPa), or ``None``."""
+        return validity_warning(self)
+
     def summary(self) -> dict:
         """Plain-float summary, the JSON object of ``polind surface --json``.
 
         Keys ``separation`` [m], ``contacts`` [-], ``real_area`` [m^2],
-        ``normal_load`` [N] and ``elements``, a list of
-        ``{stiffness [N/m], breakaway_force [N], asperities [-], interference [m]}``.
+        ``normal_load`` [N], ``elements``, a list of
+        ``{stiffness [N/m], breakaway_force [N], asperities [-], interference [m]}``,
+        and ``validity`` (:meth:`validity`).
         """
         return {
             "separation": float(self.separation),
@@ -79,6 +105,7 @@ class Contact:
             "real_area": self.real_area,
             "normal_load": float(self.normal_load),
             "elements": self.elements.records(),
+            "validity": self.validity(),
         }
 
 
@@ -121,7 +148,8 @@ def build_contact(params: Mapping, base_dir=None, *, surface=None) -> Contact:
         ``normal_load`` [N], ``static_coefficient`` [-],
         ``surface`` = {``asperity_density`` [1/m^2], ``nominal_area`` [m^2],
         ``asperity_radius`` [m], ``height_std`` [m]},
-        ``materials`` = {``youngs_modulus`` [Pa, Pa], ``poisson_ratio`` [-, -]},
+        ``materials`` = {``youngs_modulus`` [Pa, Pa], ``poisson_ratio`` [-, -],
+        optionally ``hardness`` [Pa] or ``yield_strength`` [Pa]},
         ``discretisation`` = {``summation`` ("statistical" or "direct"),
         ``elements`` (bins, statistical), ``seed`` (direct, sampled),
         ``heights_file`` (direct, measured)}, as a validated pol-ind model
@@ -164,7 +192,11 @@ def build_contact(params: Mapping, base_dir=None, *, surface=None) -> Contact:
     elements = element_table(
         surface, separation, static_coefficient, discretisation["elements"], normal_load=normal_load
     )
-    return Contact(surface=surface, normal_load=normal_load, separation=separation, elements=elements)
+    unmatched = normal_load - float(surface.normal_load(separation))
+    if abs(unmatched) <= RELATIVE_TOLERANCE * normal_load:
+        unmatched = 0.0
+    return Contact(surface=surface, normal_load=normal_load, separation=separation, elements=elements,
+                   unmatched_load=unmatched)
 
 
 def _file_name(value, key, base_dir):
@@ -211,7 +243,31 @@ def build_surface(params: Mapping, base_dir=None):
     E1, E2 = _pair(materials, "youngs_modulus")
     nu1, nu2 = _pair(materials, "poisson_ratio")
     E_star, G_star = effective_moduli(E1, nu1, E2, nu2)
+    surface = _hertzian_surface(params, surface_keys, discretisation, E_star, G_star, base_dir)
+    plasticity = plasticity_of(materials, nu1)
+    return surface if plasticity is None else surface.with_plasticity(plasticity)
 
+
+def plasticity_of(materials: Mapping, poisson) -> Plasticity | None:
+    """The :class:`~polind.contact.plasticity.Plasticity` of a ``[model.materials]`` table, or ``None``.
+
+    ``hardness = H`` [Pa] or ``yield_strength = Y`` [Pa] (then ``H = 2.8 Y``),
+    not both; ``poisson`` is the rough body's Poisson ratio ``nu1``.
+    """
+    given = [key for key in PLASTIC_KEYS if materials.get(key) is not None]
+    if len(given) == 2:
+        raise InputError("The 'materials.hardness' and 'materials.yield_strength' of pol-ind are two "
+                         "ways of giving one number (H = 2.8 Y): give one of them. Got both.")
+    if not given:
+        return None
+    if given[0] == "hardness":
+        return Plasticity(materials["hardness"], poisson)
+    strength = positive_number(materials["yield_strength"], "materials.yield_strength")
+    return Plasticity(HARDNESS_PER_YIELD_STRENGTH * strength, poisson)
+
+
+def _hertzian_surface(params, surface_keys, discretisation, E_star, G_star, base_dir):
+    """The surface of :func:`build_surface` with Hertzian asperities."""
     topography = (params.get("surface") or {}).get("topography")
     summation = discretisation.get("summation") or ("direct" if topography else "statistical")
     if topography is not None:

@@ -53,6 +53,14 @@ the table's stiffness is coarser (with 64 bins built at 100 N: 0.03 % low at
 :meth:`ElementTable.as_surface` gives the alternative of solving ``d(t)`` on
 the table itself.
 
+Elastic-plastic asperities (a surface with a hardness,
+:ref:`guide-pol-ind-plasticity`): ``k_j = n_j 8 G* a(delta_j)`` with
+``a = sqrt(A / pi)`` and ``W_j = n_j mu_s P(delta_j)`` of the Kogut–Etsion
+law; statistical bins are edged at the law's range boundaries and their
+two-point rules placed so that count, stiffness, area and load are all
+exact; a direct table has one element per summit group of one height and
+one radius, each with its own radius (the ``radii`` of :class:`ElementTable`).
+
 See the user guide: :ref:`guide-pol-ind-elements`.
 """
 
@@ -65,7 +73,9 @@ import numpy as np
 from scipy import special
 
 from polind.contact._checks import element_count, finite_number, positive_number
+from polind.contact.plasticity import elastic_plastic_load, plastic_properties
 from polind.kernels.elements import element_properties
+from polind.kernels.plastic import RANGE_ENDS
 
 __all__ = ["ElementTable", "element_table", "element_properties", "MAX_ELEMENTS"]
 
@@ -76,6 +86,10 @@ _NODES_PER_BIN = 24
 _TOP_BIN_PANELS = 16
 # The top bin is integrated until phi has fallen by e^-75 (about 3e-33).
 _TOP_BIN_DECAY = 75.0
+# Kogut–Etsion's area exponents of the second and third ranges (A/A_c = c w^g).
+_AREA_EXPONENTS = (1.136, 1.146)
+# ... and load exponents (P/P_c = c w^q), both in u = sqrt(w): twice these.
+_LOAD_EXPONENTS = (2.0 * 1.425, 2.0 * 1.263)
 
 
 @dataclass(frozen=True, eq=False)
@@ -104,6 +118,12 @@ class ElementTable:
         Hertz weights ``w_j = n_j sqrt(R_j / R)`` of elements whose summits
         have radii ``R_j`` of their own; ``None`` when every radius is ``R``
         (then ``w_j = n_j``).  See :attr:`contact_weights`.
+    plasticity : polind.contact.plasticity.Plasticity or None
+        The rough body's hardness: elastic-plastic elements
+        (:ref:`guide-pol-ind-plasticity`); ``None`` for Hertzian ones.
+    radii : numpy.ndarray or None
+        Elastic-plastic elements: each element's summit radius ``R_j`` [m]
+        (``None`` for Hertzian elements, whose radii the weights carry).
     """
 
     heights: np.ndarray
@@ -117,6 +137,8 @@ class ElementTable:
     E_star: float
     G_star: float
     weights: np.ndarray | None = None
+    plasticity: object = None
+    radii: np.ndarray | None = None
 
     @property
     def contact_weights(self) -> np.ndarray:
@@ -143,6 +165,11 @@ class ElementTable:
         """``(k_j, W_j)`` of the same elements at another separation [m]."""
         out_k = np.empty_like(self.heights)
         out_W = np.empty_like(self.heights)
+        if self.plasticity is not None:
+            plastic_properties(self.plasticity, self.heights, self.contact_weights, self.asperities,
+                               self.radii, float(separation), self.asperity_radius, self.E_star,
+                               self.G_star, self.static_coefficient, out_k, out_W)
+            return out_k, out_W
         element_properties(
             self.heights,
             self.contact_weights,
@@ -179,6 +206,10 @@ class ElementTable:
         """
         from polind.contact.surface import DirectSurface
 
+        if self.plasticity is not None:
+            return DirectSurface(self.heights, self.asperity_radius, self.E_star, self.G_star,
+                                 counts=self.asperities, radii=self.radii,
+                                 plasticity=self.plasticity)
         if self.weights is None:
             return DirectSurface(self.heights, self.asperity_radius, self.E_star, self.G_star,
                                  counts=self.asperities)
@@ -210,11 +241,74 @@ def _upper_quantiles(s: float, fractions: np.ndarray) -> np.ndarray:
         return np.where(upper <= 0.5, -special.ndtri(np.minimum(upper, 0.5)), special.ndtri(np.minimum(lower, 1.0)))
 
 
-def _gaussian_elements(s: float, n_elements: int) -> tuple[np.ndarray, np.ndarray]:
+def _snapped_edges(edges_u: np.ndarray, kinks) -> np.ndarray:
+    """The bin edges with one interior edge given up for each kink, the kinks in their place.
+
+    Each kink (lowest first) replaces the interior edge nearest to it that no
+    kink has replaced yet; the edges are then sorted, so the bins keep their
+    number and every kink is an edge (as many kinks as there are interior
+    edges, for a table of very few bins).
+    """
+    interior = list(edges_u[1:])
+    placed = []
+    for kink in kinks:
+        if not interior:
+            break
+        nearest = int(np.argmin(np.abs(np.asarray(interior) - kink)))
+        interior.pop(nearest)
+        placed.append(kink)
+    edges = np.sort(np.concatenate(([edges_u[0]], interior, placed)))
+    # An edge on a kink to the bit would leave an empty bin: keep the edges as they were.
+    return edges if np.all(np.diff(edges) > 0.0) else edges_u
+
+
+def _matched_rules(probability, variance, load_moment, load_power, mean, low_weight, low_node,
+                   high_node):
+    """Two-point rules with the given count, mean and variance whose ``v^q`` moment is ``load_moment``.
+
+    The two-point distributions of mean ``mu`` and variance ``var`` are
+    ``v = mu - sqrt(var p_2 / p_1)`` with weight ``p_1`` and
+    ``mu + sqrt(var p_1 / p_2)`` with ``p_2 = 1 - p_1``; for ``q > 2`` their
+    ``v^q`` moment grows with ``p_1`` (without bound as ``p_1 -> 1``), so bisection on ``p_1`` (both nodes
+    non-negative) matches it.  Bins with ``q = 3`` (or no spread) keep the
+    Gauss rule given.  Returns ``(low_weight, low_node, high_node)``, nodes
+    relative to the mean.
+    """
+    todo = (load_power != 3.0) & (variance > 0.0)
+    if not np.any(todo):
+        return low_weight, low_node, high_node
+    mu, var, q = mean[todo], variance[todo], load_power[todo]
+    target = load_moment[todo] / probability[todo]
+    lo = var / (var + mu * mu) * (1.0 + 1e-12)
+    hi = np.full_like(lo, 1.0 - 1e-12)
+
+    def excess(p):
+        below = np.maximum(mu - np.sqrt(var * (1.0 - p) / p), 0.0)
+        return p * below ** q + (1.0 - p) * (mu + np.sqrt(var * p / (1.0 - p))) ** q - target
+
+    for _ in range(200):
+        middle = 0.5 * (lo + hi)
+        too_high = excess(middle) > 0.0
+        lo, hi = np.where(too_high, lo, middle), np.where(too_high, middle, hi)
+    p = 0.5 * (lo + hi)
+    low_weight, low_node, high_node = low_weight.copy(), low_node.copy(), high_node.copy()
+    low_weight[todo] = probability[todo] * p
+    low_node[todo] = -np.sqrt(var * (1.0 - p) / p)
+    high_node[todo] = np.sqrt(var * p / (1.0 - p))
+    return low_weight, low_node, high_node
+
+
+def _gaussian_elements(s: float, n_elements: int, kinks=()) -> tuple[np.ndarray, np.ndarray]:
     """Quadrature of the Gaussian tail above ``s`` with ``n_elements`` nodes.
 
     Returns the probability carried by each node (sums to ``F_0(s)``) and
     its ``u = sqrt(delta / sigma)``, ascending.  See the module notes.
+    ``kinks``, the ``u`` of the three Kogut–Etsion range boundaries of
+    elastic-plastic asperities, become bin edges where they fall on the
+    tail, and a bin between the first and the third gets its two-point rule
+    in ``v = u^g`` instead of ``u``, ``g`` the area exponent of its range
+    (1.136, 1.146): then its count, stiffness (``a ∝ v``) and area (``∝ v^2``)
+    are exact and its load (``∝ v^2.51``, ``v^2.20``) is nearly so.
     """
     n_bins = (n_elements + 1) // 2
     # Bin edges in t (equal probability), then in u = sqrt(t - s); edge 0
@@ -224,6 +318,12 @@ def _gaussian_elements(s: float, n_elements: int) -> tuple[np.ndarray, np.ndarra
     edges_u = np.sqrt(np.maximum(np.maximum.accumulate(edges_t) - s, 0.0))
     top_start_t = max(float(edges_t[-1]), 0.0)
     top_end_u = math.sqrt(math.sqrt(top_start_t**2 + 2.0 * _TOP_BIN_DECAY) - s)
+    ranges = tuple(kinks)
+    kinks = [kink for kink in kinks if kink < top_end_u]
+    if kinks and n_bins > 1:
+        edges_u = _snapped_edges(edges_u, kinks)
+        top_start_t = max(s + float(edges_u[-1]) ** 2, 0.0)
+        top_end_u = math.sqrt(math.sqrt(top_start_t**2 + 2.0 * _TOP_BIN_DECAY) - s)
     top_edges = np.linspace(edges_u[-1], max(top_end_u, edges_u[-1]), _TOP_BIN_PANELS + 1)
     lower = np.concatenate((edges_u[:-1], top_edges[:-1]))
     upper = np.concatenate((edges_u[1:], top_edges[1:]))
@@ -238,6 +338,13 @@ def _gaussian_elements(s: float, n_elements: int) -> tuple[np.ndarray, np.ndarra
         return np.bincount(bin_of_panel, weights=values.sum(axis=1), minlength=n_bins)
 
     probability = per_bin(density)
+    if ranges:
+        # The rule's variable v = u^g per bin (1 within Hertz and fully plastic).
+        first = edges_u[np.minimum(np.arange(n_bins), edges_u.size - 1)]
+        power = np.where((first >= ranges[0]) & (first < ranges[1]), _AREA_EXPONENTS[0],
+                         np.where((first >= ranges[1]) & (first < ranges[2]), _AREA_EXPONENTS[1], 1.0))
+        exponent = power[bin_of_panel][:, None]
+        u = u ** exponent
     mean = per_bin(density * u) / probability
     # Central moments: the bins are narrow, raw moments would cancel.
     offset = u - mean[bin_of_panel][:, None]
@@ -251,8 +358,21 @@ def _gaussian_elements(s: float, n_elements: int) -> tuple[np.ndarray, np.ndarra
     width = np.where(root > 0.0, root, 1.0)
     low_weight = np.where(root > 0.0, probability * high_node / width, 0.5 * probability)
     high_weight = probability - low_weight
+    if ranges:
+        # In the two middle ranges the load goes as v^q, not v^3: move the nodes
+        # along the rules with the bin's count, mean and variance until the load
+        # is matched too.
+        load_power = np.where(power == _AREA_EXPONENTS[0], _LOAD_EXPONENTS[0] / power,
+                              np.where(power == _AREA_EXPONENTS[1], _LOAD_EXPONENTS[1] / power, 3.0))
+        load_moment = per_bin(density * u ** load_power[bin_of_panel][:, None])
+        low_weight, low_node, high_node = _matched_rules(
+            probability, variance / probability, load_moment, load_power, mean, low_weight,
+            low_node, high_node)
+        high_weight = probability - low_weight
     node_u = np.column_stack((mean + low_node, mean + high_node)).ravel()
     node_probability = np.column_stack((low_weight, high_weight)).ravel()
+    if ranges:
+        node_u = node_u ** np.repeat(1.0 / power, 2)
     if n_elements % 2:
         # Odd count: the lowest bin gets one node, at the interference whose
         # Hertz load times the bin's count is the bin's load.
@@ -299,6 +419,9 @@ def element_table(surface, separation, static_coefficient, n_elements=64, normal
     """
     d = finite_number(separation, "separation")
     mu_s = positive_number(static_coefficient, "static_coefficient")
+    plasticity = surface.plasticity
+    if plasticity is not None:
+        return _plastic_table(surface, d, mu_s, n_elements, normal_load)
     if surface.kind == "statistical":
         n_nodes = element_count(n_elements, "discretisation.elements", MAX_ELEMENTS)
         sigma = surface.height_std
@@ -338,3 +461,54 @@ def element_table(surface, separation, static_coefficient, n_elements=64, normal
         G_star=surface.G_star,
         weights=None if counts is asperities else counts,
     )
+
+
+def _plastic_table(surface, d, mu_s, n_elements, normal_load) -> ElementTable:
+    """:func:`element_table` of a surface with elastic-plastic asperities (:ref:`guide-pol-ind-plasticity`).
+
+    Statistical: the bins of the Hertzian table with the nearest edges moved
+    onto the Kogut–Etsion range boundaries ``u = sqrt(k w_c / sigma_a)``,
+    ``k = 1, 6, 110`` (each bin then holds one smooth law), the counts scaled
+    to the applied load with the elastic-plastic ``P``.  Direct: one element
+    per summit group of one height and radius
+    (:attr:`~polind.contact.surface.DirectSurface.plastic_summits`).  Within
+    yield every number is the Hertzian table's, to the bit.
+    """
+    plasticity = surface.plasticity
+    R = surface.asperity_radius
+    if surface.kind == "statistical":
+        n_nodes = element_count(n_elements, "discretisation.elements", MAX_ELEMENTS)
+        sigma = surface.height_std
+        omega = plasticity.critical_factor(surface.E_star) * R / sigma
+        kinks = [math.sqrt(end * omega) for end in RANGE_ENDS]
+        probability, node_u = _gaussian_elements(d / sigma, n_nodes, kinks)
+        counts = surface.asperity_count * probability
+        heights = d + sigma * node_u**2
+        interference = heights - d
+        if normal_load is not None:
+            load = positive_number(normal_load, "normal_load")
+            hertz = (4.0 / 3.0) * surface.E_star * math.sqrt(R)
+            carried = counts * hertz * interference**1.5
+            beyond = interference / (plasticity.critical_factor(surface.E_star) * R) > 1.0
+            carried[beyond] = counts[beyond] * elastic_plastic_load(interference[beyond], R, surface.E_star,
+                                                                    plasticity)
+            counts = counts * (load / float(np.sum(carried)))
+        asperities = weights = counts
+        radii = np.full(heights.shape, R)
+    else:
+        summit_heights, summit_counts, summit_radii = surface.plastic_summits
+        start = int(np.searchsorted(summit_heights, d, side="right"))
+        heights = summit_heights[start:].copy()
+        asperities = summit_counts[start:].copy()
+        weights = surface.plastic_weights[start:].copy() if surface.has_radii else asperities
+        radii = summit_radii[start:].copy()
+        interference = heights - d
+    stiffness = np.empty_like(heights)
+    breakaway_force = np.empty_like(heights)
+    plastic_properties(plasticity, heights, weights, asperities, radii, d, R, surface.E_star,
+                       surface.G_star, mu_s, stiffness, breakaway_force)
+    return ElementTable(heights=heights, asperities=asperities, interference=interference,
+                        stiffness=stiffness, breakaway_force=breakaway_force, separation=d,
+                        static_coefficient=mu_s, asperity_radius=R, E_star=surface.E_star,
+                        G_star=surface.G_star, weights=None if weights is asperities else weights,
+                        plasticity=plasticity, radii=radii)

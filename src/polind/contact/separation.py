@@ -40,6 +40,16 @@ Loads the surface cannot carry are :class:`polind.InputError`:
   bracket's lower end is where the highest summit alone would carry the
   load, ``h_max - (N / (c_max (4/3) E* sqrt(R)))^(2/3)``.
 
+A surface with elastic-plastic asperities (a hardness,
+:ref:`guide-pol-ind-plasticity`) is solved by the same iteration on its
+elastic-plastic load (:mod:`polind.kernels.plastic_separation`), started
+from the same guess.  A direct sum of such summits jumps where a summit
+crosses a Kogut–Etsion range boundary: a load inside a jump has no
+separation, and the iteration stops at the jump (bracket narrower than
+``1e-12 sigma_a``), at the best separation it evaluated;
+:func:`polind.contact.build_contact` reports the load left over as the
+contact's ``unmatched_load``.
+
 See the user guide: :ref:`guide-pol-ind-separation`.
 """
 
@@ -50,7 +60,9 @@ import math
 import numpy as np
 
 from polind.contact.greenwood import three_halves_inverse
+from polind.contact.plasticity import plastic_kernel_arguments
 from polind.errors import InputError, describe
+from polind.kernels import plastic_separation as _plastic
 from polind.kernels import separation as _kernels
 from polind.kernels.special import special_addresses
 
@@ -203,6 +215,14 @@ def solve_separation(surface, normal_load, initial=None, *, full_output=False):
     """
     load = _checked_load(normal_load)
     _check_reachable(surface, load)
+    if surface.plasticity is not None:
+        vector, heights, weights, counts, radii = plastic_kernel_arguments(surface)
+        lo, hi = surface.separation_range
+        lo = _plastic.plastic_lower(load, lo, vector, heights, counts, radii)
+        start = _initial_guess(surface, load, lo, hi) if initial is None else _checked_initial(initial)
+        d, _, _, evaluations = _plastic.plastic_newton(load, start, lo, hi, vector, heights, weights,
+                                                       counts, radii)
+        return (d, evaluations) if full_output else d
     arguments = _kernel_surface(surface)
     lo, hi = _lower_bound(surface, load, arguments), surface.separation_range[1]
     start = _initial_guess(surface, load, lo, hi) if initial is None else _checked_initial(initial)
@@ -256,7 +276,19 @@ def solve_separation_series(surface, normal_load, initial=None, *, full_output=F
         _check_reachable(surface, _checked_load(loads[index], where), where)
     separation = np.empty(loads.size)
     evaluations = np.zeros(loads.size, dtype=np.int64)
-    if loads.size:
+    if loads.size and surface.plasticity is not None:
+        arguments = plastic_kernel_arguments(surface)
+        lo, hi = surface.separation_range
+        first = float(loads[0])
+        if initial is None:
+            vector, heights, _, counts, radii = arguments
+            start = _initial_guess(surface, first,
+                                   _plastic.plastic_lower(first, lo, vector, heights, counts, radii), hi)
+        else:
+            start = _checked_initial(initial)
+        _plastic.plastic_separation_series(np.ascontiguousarray(loads), start, lo, hi, *arguments,
+                                           separation, evaluations)
+    elif loads.size:
         arguments = _kernel_surface(surface)
         lo, hi = surface.separation_range
         first = float(loads[0])

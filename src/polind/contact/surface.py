@@ -14,7 +14,12 @@ between the flat and the mean summit height:
 Each offers ``normal_load(d)``, its slope ``normal_load_slope(d)`` (= dN/dd,
 negative), ``contacts(d)`` and ``real_area(d)``, vectorised over ``d``, and
 the scalar ``load_and_slope(d)`` that the separation solver
-(:mod:`polind.contact.separation`) iterates on.
+(:mod:`polind.contact.separation`) iterates on.  With a
+:class:`~polind.contact.plasticity.Plasticity` (``plasticity=``, or
+:meth:`~polind.contact.plasticity.ElasticPlasticSums.with_plasticity`) the
+asperities are elastic-plastic and these totals are those of
+:mod:`polind.contact.plasticity` (:ref:`guide-pol-ind-plasticity`); the
+``hertz_*`` methods are always the Hertzian ones.
 
 See the user guide: :ref:`guide-pol-ind-surface` and
 :ref:`guide-pol-ind-summation`.
@@ -33,6 +38,8 @@ from numba import njit
 from polind.contact._checks import positive_number
 from polind.contact.greenwood import VALID_RANGE, gw_integral, half_integer_pair
 from polind.errors import InputError, describe
+from polind.contact.plasticity import ElasticPlasticSums, direct_totals, statistical_totals
+from polind.contact.heights import read_summit_heights, sorted_heights, summit_groups
 from polind.kernels.greenwood import tail_moments
 
 __all__ = [
@@ -47,7 +54,7 @@ __all__ = [
 MAX_SAMPLED_ASPERITIES = 50_000_000
 
 
-class StatisticalSurface:
+class StatisticalSurface(ElasticPlasticSums):
     """Gaussian summit heights summed statistically (Greenwood–Williamson).
 
     ``N(d) = (4/3) eta A0 E* sqrt(R) sigma^(3/2) F_{3/2}(d/sigma)``,
@@ -67,6 +74,9 @@ class StatisticalSurface:
     E_star, G_star : float
         Effective normal and tangential moduli [Pa]
         (:func:`polind.contact.materials.effective_moduli`).
+    plasticity : polind.contact.plasticity.Plasticity, optional
+        The rough body's hardness: elastic-plastic asperities
+        (:ref:`guide-pol-ind-plasticity`); default Hertzian.
 
     Notes
     -----
@@ -83,13 +93,15 @@ class StatisticalSurface:
 
     kind = "statistical"
 
-    def __init__(self, asperity_density, nominal_area, asperity_radius, height_std, E_star, G_star):
+    def __init__(self, asperity_density, nominal_area, asperity_radius, height_std, E_star, G_star,
+                 plasticity=None):
         self.asperity_density = positive_number(asperity_density, "surface.asperity_density")
         self.nominal_area = positive_number(nominal_area, "surface.nominal_area")
         self.asperity_radius = positive_number(asperity_radius, "surface.asperity_radius")
         self.height_std = positive_number(height_std, "surface.height_std")
         self.E_star = positive_number(E_star, "E_star")
         self.G_star = positive_number(G_star, "G_star")
+        self.plasticity = plasticity
 
     @property
     def asperity_count(self) -> float:
@@ -107,12 +119,12 @@ class StatisticalSurface:
             * self.height_std**1.5
         )
 
-    def normal_load(self, d):
-        """Total normal load ``N(d)`` [N] at separation ``d`` [m] (vectorised)."""
+    def hertz_load(self, d):
+        """Normal load ``N(d)`` [N] of Hertzian asperities at separation ``d`` [m] (vectorised)."""
         return self._load_scale * gw_integral(1.5, np.asarray(d, dtype=float) / self.height_std)
 
-    def normal_load_slope(self, d):
-        """``dN/dd`` [N/m] at separation ``d`` [m] (negative; vectorised)."""
+    def hertz_load_slope(self, d):
+        """``dN/dd`` [N/m] of Hertzian asperities at separation ``d`` [m] (negative; vectorised)."""
         # d/dd [scale F_{3/2}(d/sigma)] = -(3/2) scale F_{1/2} / sigma.
         return -1.5 * self._load_scale / self.height_std * gw_integral(
             0.5, np.asarray(d, dtype=float) / self.height_std
@@ -122,8 +134,8 @@ class StatisticalSurface:
         """Expected number of asperities in contact ``n(d)`` (vectorised)."""
         return self.asperity_count * gw_integral(0, np.asarray(d, dtype=float) / self.height_std)
 
-    def real_area(self, d):
-        """Real contact area ``A(d)`` [m^2] (vectorised)."""
+    def hertz_area(self, d):
+        """Real contact area ``A(d)`` [m^2] of Hertzian asperities (vectorised)."""
         return (
             math.pi
             * self.asperity_count
@@ -132,8 +144,12 @@ class StatisticalSurface:
             * gw_integral(1, np.asarray(d, dtype=float) / self.height_std)
         )
 
-    def load_and_slope(self, d: float) -> tuple[float, float]:
-        """``(N(d), dN/dd)`` for one separation ``d`` [m] (one Python call)."""
+    def plastic_totals(self, d) -> dict:
+        """The elastic-plastic totals at ``d`` (:func:`polind.contact.plasticity.statistical_totals`)."""
+        return statistical_totals(self, d)
+
+    def hertz_load_and_slope(self, d: float) -> tuple[float, float]:
+        """``(N(d), dN/dd)`` of Hertzian asperities for one separation ``d`` [m] (one Python call)."""
         f_half, f_three_halves = half_integer_pair(d / self.height_std)
         scale = self._load_scale
         return scale * f_three_halves, -1.5 * scale / self.height_std * f_half
@@ -168,7 +184,7 @@ def _tail_moments_many(heights, counts, separations, out):
         out[k, 3] = load_sum
 
 
-class DirectSurface:
+class DirectSurface(ElasticPlasticSums):
     """A finite set of summits, every total a plain sum (approach I).
 
     ``N(d) = sum_{h_i > d} c_i (4/3) E* sqrt(R_i) (h_i - d)^(3/2)``,
@@ -193,6 +209,11 @@ class DirectSurface:
     radii : array_like, optional
         Each summit's own radius ``R_i`` [m] (default: ``asperity_radius``
         for all).
+    plasticity : polind.contact.plasticity.Plasticity, optional
+        The rough body's hardness: elastic-plastic asperities, each summit
+        with its own critical interference (:ref:`guide-pol-ind-plasticity`;
+        beyond yield the Hertz weights below no longer hold, and the sums
+        run over :attr:`plastic_summits`); default Hertzian.
 
     Attributes
     ----------
@@ -238,12 +259,19 @@ class DirectSurface:
 
     kind = "direct"
 
-    def __init__(self, heights, asperity_radius, E_star, G_star, counts=None, radii=None):
+    def __init__(self, heights, asperity_radius, E_star, G_star, counts=None, radii=None,
+                 plasticity=None):
         self.asperity_radius = positive_number(asperity_radius, "surface.asperity_radius")
         self.E_star = positive_number(E_star, "E_star")
         self.G_star = positive_number(G_star, "G_star")
-        self.heights, self.counts, self.weights, self._area_weights = _sorted_heights(
+        self.heights, self.counts, self.weights, self._area_weights = sorted_heights(
             heights, counts, radii, self.asperity_radius)
+        # The summits as given (validated above), for plastic_summits; only with radii.
+        self._given = None if radii is None else (
+            np.asarray(heights, dtype=float).ravel(),
+            np.ones(np.size(heights)) if counts is None else np.asarray(counts, dtype=float).ravel(),
+            np.asarray(radii, dtype=float).ravel())
+        self.plasticity = plasticity
         #: Lowest separation the surface may be pressed to [m] (``-inf``: any
         #: load is carried; a measured map sets its lowest summit).
         self.lowest_separation = -math.inf
@@ -375,24 +403,48 @@ class DirectSurface:
         """``(4/3) E* sqrt(R)`` [N/m^(3/2)]: ``P = scale w delta^(3/2)``."""
         return (4.0 / 3.0) * self.E_star * math.sqrt(self.asperity_radius)
 
-    def normal_load(self, d):
-        """Total normal load ``N(d)`` [N] at separation ``d`` [m] (vectorised)."""
+    def hertz_load(self, d):
+        """Normal load ``N(d)`` [N] of Hertzian asperities at separation ``d`` [m] (vectorised)."""
         return self._hertz_scale() * self._moments(d, self.weights)[..., 3]
 
-    def normal_load_slope(self, d):
-        """``dN/dd`` [N/m] at separation ``d`` [m] (negative; vectorised)."""
+    def hertz_load_slope(self, d):
+        """``dN/dd`` [N/m] of Hertzian asperities at separation ``d`` [m] (negative; vectorised)."""
         return -1.5 * self._hertz_scale() * self._moments(d, self.weights)[..., 1]
 
     def contacts(self, d):
         """Number of asperities in contact ``n(d)`` (vectorised)."""
         return self._moments(d, self.counts)[..., 0]
 
-    def real_area(self, d):
-        """Real contact area ``A(d)`` [m^2] (vectorised)."""
+    def hertz_area(self, d):
+        """Real contact area ``A(d)`` [m^2] of Hertzian asperities (vectorised)."""
         return math.pi * self.asperity_radius * self._moments(d, self._area_weights)[..., 2]
 
-    def load_and_slope(self, d: float) -> tuple[float, float]:
-        """``(N(d), dN/dd)`` for one separation ``d`` [m] (one Python call)."""
+    @cached_property
+    def plastic_summits(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(heights, counts, radii)`` of the summits, merged only at equal height and radius.
+
+        What the elastic-plastic sums run on
+        (:func:`polind.contact.heights.summit_groups`); for summits of one
+        radius, ``heights`` and ``counts`` with ``R`` for every radius.
+        """
+        if self._given is None:
+            return self.heights, self.counts, np.full(self.heights.size, self.asperity_radius)
+        heights, counts, _, radii = summit_groups(*self._given, self.asperity_radius)
+        return heights, counts, radii
+
+    @cached_property
+    def plastic_weights(self) -> np.ndarray:
+        """The Hertz weights ``c_i sqrt(R_i / R)`` of :attr:`plastic_summits`."""
+        if self._given is None:
+            return self.weights
+        return summit_groups(*self._given, self.asperity_radius)[2]
+
+    def plastic_totals(self, d) -> dict:
+        """The elastic-plastic totals at ``d`` (:func:`polind.contact.plasticity.direct_totals`)."""
+        return direct_totals(self, d)
+
+    def hertz_load_and_slope(self, d: float) -> tuple[float, float]:
+        """``(N(d), dN/dd)`` of Hertzian asperities for one separation ``d`` [m] (one Python call)."""
         _, root_sum, _, load_sum = tail_moments(self.heights, self.weights, float(d))
         scale = self._hertz_scale()
         return scale * load_sum, -1.5 * scale * root_sum
@@ -429,125 +481,3 @@ class DirectSurface:
             f"asperity_radius={self.asperity_radius!r}, E_star={self.E_star!r}, "
             f"G_star={self.G_star!r})"
         )
-
-
-def _positive_array(values, name, shape) -> np.ndarray:
-    """A float array of ``shape`` with every entry positive and finite, else InputError."""
-    array = np.asarray(values, dtype=float)
-    if array.shape != shape:
-        raise InputError(
-            f"The asperity '{name}' of pol-ind must match the heights, shape {shape}. "
-            f"Got shape {array.shape}."
-        )
-    bad = np.flatnonzero(~(np.isfinite(array) & (array > 0.0)))
-    if bad.size:
-        raise InputError(
-            f"The asperity '{name}' of pol-ind must be positive and finite. "
-            f"Got {array[bad[0]]!r} at index {bad[0]}."
-        )
-    return array
-
-
-def _sorted_heights(heights, counts, radii=None, radius=1.0):
-    """Validate, sort ascending and merge equal heights.
-
-    Returns ``(heights, counts, weights, area_weights)``: ``weights`` are
-    ``c_i sqrt(R_i / radius)`` and ``area_weights`` ``c_i R_i / radius``;
-    without ``radii`` both are the ``counts`` array itself.
-    """
-    values = np.asarray(heights, dtype=float)
-    if values.ndim != 1 or values.size == 0:
-        raise InputError(
-            f"The summit 'heights' of pol-ind must be a non-empty 1-D list of numbers. "
-            f"Got shape {values.shape}."
-        )
-    bad = np.flatnonzero(~np.isfinite(values))
-    if bad.size:
-        raise InputError(
-            f"The summit 'heights' of pol-ind must be finite. Got {values[bad[0]]!r} at index {bad[0]}."
-        )
-    columns = []
-    if counts is not None:
-        columns.append(_positive_array(counts, "counts", values.shape))
-    if radii is not None:
-        ratio = _positive_array(radii, "radii", values.shape) / radius
-        number = columns[0] if columns else np.ones_like(values)
-        columns = [number, number * np.sqrt(ratio), number * ratio]
-    if not columns:
-        # All weights are 1: a plain sort is about twice as fast as argsort.
-        values = np.sort(values)
-        columns = [np.ones_like(values)]
-    else:
-        order = np.argsort(values, kind="stable")
-        values = values[order]
-        columns = [column[order] for column in columns]
-    # Equal heights become one summit group: same interference; counts,
-    # weights and areas add.
-    starts = np.flatnonzero(np.concatenate(([True], values[1:] != values[:-1])))
-    if starts.size != values.size:
-        columns = [np.add.reduceat(column, starts) for column in columns]
-        values = values[starts]
-    columns = [np.ascontiguousarray(column) for column in columns]
-    if len(columns) == 1:
-        columns = columns * 3
-    return (np.ascontiguousarray(values), *columns)
-
-
-def read_summit_heights(path) -> np.ndarray:
-    """Read measured summit heights from a CSV file.
-
-    The file has a header row naming a column ``h`` (other columns are
-    ignored) and one summit per row, heights in metres measured from the
-    reference plane of the separation.  Blank lines are skipped.
-
-    Parameters
-    ----------
-    path : str or os.PathLike
-        The CSV file.
-
-    Returns
-    -------
-    numpy.ndarray
-        The heights [m], in file order.
-
-    Raises
-    ------
-    polind.InputError
-        If the file cannot be read, has no ``h`` column or no rows, or a row
-        holds something other than one finite number in that column; the
-        message names the file and the line.
-    """
-    name = os.fspath(path)
-    what = f"The heights file '{name}' of pol-ind"
-    try:
-        with open(name, newline="", encoding="utf-8-sig") as handle:
-            rows = list(csv.reader(handle))
-    except (OSError, UnicodeDecodeError) as error:
-        raise InputError(f"{what} cannot be read: {error}.") from None
-    lines = [(number, row) for number, row in enumerate(rows, start=1) if any(f.strip() for f in row)]
-    if not lines:
-        raise InputError(f"{what} is empty; expected a header 'h' and one summit height per row.")
-    header_line, header = lines[0]
-    names = [field.strip() for field in header]
-    if "h" not in names:
-        raise InputError(
-            f"{what} must have a header naming a column 'h' (summit heights in metres). "
-            f"Got header {describe(names)} on line {header_line}."
-        )
-    column = names.index("h")
-    heights = np.empty(len(lines) - 1)
-    for index, (line, row) in enumerate(lines[1:]):
-        text = row[column].strip() if column < len(row) else ""
-        try:
-            value = float(text)
-        except ValueError:
-            value = math.nan
-        if not math.isfinite(value) or len(row) != len(header):
-            raise InputError(
-                f"{what} has a bad row {index + 1} (line {line}): {describe(','.join(row))}; "
-                f"expected {len(header)} field(s) with a finite summit height in metres in column 'h'."
-            )
-        heights[index] = value
-    if heights.size == 0:
-        raise InputError(f"{what} has no data rows; expected one summit height per row.")
-    return heights

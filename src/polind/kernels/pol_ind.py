@@ -22,6 +22,12 @@ table's share rows lag its capacities row until a step at an unchanged load
 brings them up to date (:func:`refresh_shares`).  The forces are those of
 :func:`set_load` followed by the GMS step, to rounding.
 
+The separation and the element rows at a new load come from a *capacities
+function* (:func:`surface_capacities` and its two kinds); the functions
+named ``..._with`` take one as their first argument, so that the
+elastic-plastic step (:mod:`polind.kernels.pol_ind_plastic`) is this step
+with its own, and the Hertzian step compiles to what it was.
+
 Arrays
 ------
 ``scalars``: the GMS slots of :mod:`polind.kernels.elements` (0-6) and the
@@ -65,7 +71,9 @@ LOWER = 19                # statistical: lowest separation solved for [m]
 UPPER = 20                # highest separation solved for [m]
 HERTZ = 21                # direct: (4/3) E* sqrt(R)
 ADDRESSES = 22            # two slots: polind.kernels.special.special_addresses()
-TABLE_STALE = 24          # work: 1 while the weight rows lag the capacities (load_step)
+#: Scalar slot (work): 1 while the weight rows lag the capacities (:func:`load_step`).
+TABLE_STALE = 24
+#: Scalar slots of the Hertzian step.
 N_SCALARS = 25
 
 ELEMENT_SCRATCH = 3       # table row of capacities W_j [N] at the current load
@@ -118,6 +126,33 @@ def new_capacities(separation_function, scalars, table, state, normal_load):
 
 
 @jit(inline="always")
+def statistical_capacities(scalars, table, state, normal_load):
+    """:func:`new_capacities` of a statistical surface."""
+    return new_capacities(statistical_separation, scalars, table, state, normal_load)
+
+
+@jit(inline="always")
+def direct_capacities(scalars, table, state, normal_load):
+    """:func:`new_capacities` of a direct surface."""
+    return new_capacities(direct_separation, scalars, table, state, normal_load)
+
+
+@jit(inline="always")
+def surface_capacities(scalars, table, state, normal_load):
+    """:func:`new_capacities` of the model's surface, either kind.
+
+    The *capacities function* of the Hertzian step: given the load, it
+    solves the separation, fills the stiffness and capacity rows and returns
+    ``d``.  An elastic-plastic model passes its own
+    (:func:`polind.kernels.pol_ind_plastic.plastic_capacities`) to the
+    functions below that take one.
+    """
+    if scalars[SURFACE_KIND] == DIRECT:
+        return direct_capacities(scalars, table, state, normal_load)
+    return statistical_capacities(scalars, table, state, normal_load)
+
+
+@jit(inline="always")
 def share_rows(table):
     """Weights ``alpha_j = W_j (1 / sum W)`` and ``1 / alpha_j = sum W / W_j`` from the capacities.
 
@@ -147,19 +182,25 @@ def refresh_shares(scalars, table):
 def set_load(scalars, table, state, normal_load):
     """Re-evaluate the element table at a new normal load [N] (:ref:`guide-pol-ind-varying-load`).
 
+    :func:`set_load_with` the Hertzian :func:`surface_capacities`.
+    """
+    set_load_with(surface_capacities, scalars, table, state, normal_load)
+
+
+@jit(inline="always")
+def set_load_with(capacities, scalars, table, state, normal_load):
+    """Re-evaluate the element table at a new normal load [N] with a capacities function.
+
     The separation and the element stiffnesses and capacities
-    (:func:`new_capacities`), the weights (:func:`share_rows`); then, in
-    short loops that each write one array: slip directions reset where an
-    element is out of contact or just back in, and forces clipped to the
-    new capacities ``alpha_j mu_s N``.
+    (``capacities``, e.g. :func:`surface_capacities`), the weights
+    (:func:`share_rows`); then, in short loops that each write one array:
+    slip directions reset where an element is out of contact or just back
+    in, and forces clipped to the new capacities ``alpha_j mu_s N``.
     """
     n = table.shape[1]
     heights = state[2 * n:3 * n]
     previous_separation = scalars[SEPARATION]
-    if scalars[SURFACE_KIND] == DIRECT:
-        separation = new_capacities(direct_separation, scalars, table, state, normal_load)
-    else:
-        separation = new_capacities(statistical_separation, scalars, table, state, normal_load)
+    separation = capacities(scalars, table, state, normal_load)
     share_rows(table)
     weight = table[ELEMENT_CAPACITY]
     capacity_scale = scalars[STATIC_COEFFICIENT] * normal_load
@@ -217,18 +258,18 @@ def fresh_elements(element_force, slip_direction, stiffness, breakaway, heights,
 
 
 @jit(inline="always")
-def load_step_with(separation_function, scalars, table, state, step, displacement, step_velocity,
+def load_step_with(capacities, scalars, table, state, step, displacement, step_velocity,
                    sample_velocity, normal_load):
     """A moving step at a new normal load: :func:`set_load` and the GMS step, fused.
 
-    The separation (``separation_function``, as :func:`new_capacities`)
-    and the capacities as :func:`set_load` computes them, then one pass over
-    the elements (:func:`fresh_elements`); the weight rows are left stale
-    (:data:`TABLE_STALE`).
+    The separation and the capacities (``capacities``, e.g.
+    :func:`statistical_capacities`) as :func:`set_load` computes them, then
+    one pass over the elements (:func:`fresh_elements`); the weight rows are
+    left stale (:data:`TABLE_STALE`).
     """
     n = table.shape[1]
     previous_separation = scalars[SEPARATION]
-    separation = new_capacities(separation_function, scalars, table, state, normal_load)
+    separation = capacities(scalars, table, state, normal_load)
     breakaway = table[ELEMENT_SCRATCH]
     total = element_sum(breakaway)
     reciprocal = 1.0 / total
@@ -250,7 +291,7 @@ def load_step_with(separation_function, scalars, table, state, step, displacemen
 def direct_load_step(scalars, table, state, step, displacement, step_velocity, sample_velocity,
                      normal_load):
     """:func:`load_step_with` for a direct surface (compiled apart, see :func:`load_step`)."""
-    return load_step_with(direct_separation, scalars, table, state, step, displacement,
+    return load_step_with(direct_capacities, scalars, table, state, step, displacement,
                           step_velocity, sample_velocity, normal_load)
 
 
@@ -267,7 +308,7 @@ def load_step(scalars, table, state, step, displacement, step_velocity, sample_v
     if scalars[SURFACE_KIND] == DIRECT:
         return direct_load_step(scalars, table, state, step, displacement, step_velocity,
                                 sample_velocity, normal_load)
-    return load_step_with(statistical_separation, scalars, table, state, step, displacement,
+    return load_step_with(statistical_capacities, scalars, table, state, step, displacement,
                           step_velocity, sample_velocity, normal_load)
 
 
@@ -279,11 +320,23 @@ def pol_ind_step(scalars, table, state, step, displacement, step_velocity, sampl
     A moving step at a new load is :func:`load_step` (one pass); the rest is
     :func:`settled_step`.
     """
+    return step_with(load_step, set_load_apart, scalars, table, state, step, displacement,
+                     step_velocity, sample_velocity, normal_load)
+
+
+@jit(inline="always")
+def step_with(load_step_function, set_load_function, scalars, table, state, step, displacement,
+              step_velocity, sample_velocity, normal_load):
+    """:func:`pol_ind_step` with its load step and its set-load function given.
+
+    The Hertzian step passes :func:`load_step` and :func:`set_load_apart`;
+    an elastic-plastic one its own (:mod:`polind.kernels.pol_ind_plastic`).
+    """
     if normal_load != scalars[CURRENT_LOAD] and step_velocity != 0.0:
-        return load_step(scalars, table, state, step, displacement, step_velocity,
-                         sample_velocity, normal_load)
-    return settled_step(scalars, table, state, step, displacement, step_velocity,
-                        sample_velocity, normal_load)
+        return load_step_function(scalars, table, state, step, displacement, step_velocity,
+                                  sample_velocity, normal_load)
+    return settled_step_with(set_load_function, scalars, table, state, step, displacement,
+                             step_velocity, sample_velocity, normal_load)
 
 
 @jit(inline="always")
@@ -298,8 +351,16 @@ def settled_step(scalars, table, state, step, displacement, step_velocity, sampl
     compilation and saves nothing.  Its forces are :func:`load_step`'s to
     rounding.
     """
+    return settled_step_with(set_load_apart, scalars, table, state, step, displacement,
+                             step_velocity, sample_velocity, normal_load)
+
+
+@jit(inline="always")
+def settled_step_with(set_load_function, scalars, table, state, step, displacement,
+                      step_velocity, sample_velocity, normal_load):
+    """:func:`settled_step` with the function that brings the table to a new load given."""
     if normal_load != scalars[CURRENT_LOAD]:
-        set_load_apart(scalars, table, state, normal_load)
+        set_load_function(scalars, table, state, normal_load)
     elif scalars[TABLE_STALE] != 0.0:
         refresh_shares(scalars, table)
     n = table.shape[1]
@@ -311,8 +372,14 @@ def settled_step(scalars, table, state, step, displacement, step_velocity, sampl
 
 @jit(inline="always")
 def pol_ind_force(scalars, table, state, sample_velocity, normal_load):
+    return force_with(set_load_apart, scalars, table, state, sample_velocity, normal_load)
+
+
+@jit(inline="always")
+def force_with(set_load_function, scalars, table, state, sample_velocity, normal_load):
+    """The force at a state, the table first brought to the load by ``set_load_function``."""
     if normal_load != scalars[CURRENT_LOAD]:
-        set_load_apart(scalars, table, state, normal_load)
+        set_load_function(scalars, table, state, normal_load)
     return gms_force(scalars, table, state, sample_velocity, normal_load)
 
 

@@ -141,7 +141,7 @@ def statistical_load_and_slope(d, load_scale, height_std, addresses):
 
     ``N = load_scale F_{3/2}(d/sigma_a)``, ``dN/dd = -(3/2) load_scale
     F_{1/2}(d/sigma_a) / sigma_a``, the formulas of
-    :meth:`polind.contact.surface.StatisticalSurface.load_and_slope` with
+    :meth:`polind.contact.surface.StatisticalSurface.hertz_load_and_slope` with
     the fast pair (:func:`~polind.kernels.greenwood.gw_half_integer_pair_fast`):
     within 5e-15 of the true values, within 3e-12 of the exact Bessel pair's.
 
@@ -174,7 +174,7 @@ def direct_load_and_slope(d, heights, counts, hertz):
     c_i (h_i - d)^(1/2)`` over the summits above ``d``, summed from the lowest
     of them (small terms first) by
     :func:`~polind.kernels.greenwood.tail_moments`, as
-    :meth:`polind.contact.surface.DirectSurface.load_and_slope` sums them.
+    :meth:`polind.contact.surface.DirectSurface.hertz_load_and_slope` sums them.
 
     Parameters
     ----------

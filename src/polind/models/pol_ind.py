@@ -30,11 +30,8 @@ gives the rules for a time-varying load):
 from __future__ import annotations
 
 import functools
-import json
 import math
-import os
-import threading
-from collections import OrderedDict
+import warnings
 
 import numpy as np
 
@@ -43,104 +40,15 @@ from polind.models import pol_ind_fit
 from polind.models.base import FrictionModel, StepFunctions, register
 from polind.models.gms import GMS, gms_arrays, gms_scales
 from polind.models.maxwell_slip import MaxwellSlip
-from polind.models.params import Param, Table, VISCOUS
-
-# The keys a file of measured summit heights replaces: required without one,
-# refused with one (PolInd._check).
-_SAMPLED_SURFACE_KEYS = ("asperity_density", "nominal_area", "height_std")
-# The keys a measured height map replaces (it gives every summit's height and radius).
-_MAPPED_SURFACE_KEYS = ("asperity_density", "asperity_radius", "height_std")
-# The keys that only go with a height map.
-_MAP_KEYS = ("pixel_size", "short_cutoff")
-_SURFACE = Table("surface", (
-    Param("asperity_density", unit="1/m^2", default=None,
-          description=(r"Summit density :math:`\eta`, summits per unit nominal area. Required "
-                       r"unless the summits come from a file."), symbol=r"\eta"),
-    Param("nominal_area", unit="m^2", default=None,
-          description=("Nominal (apparent) contact area :math:`A_0`. Required unless the "
-                       "summits come from a file; with a measured ``topography``, optional "
-                       "(default: the map's own area)."), symbol="A_0"),
-    Param("asperity_radius", unit="m", default=None,
-          description=("Summit radius :math:`R`, the same for every summit of a Gaussian "
-                       "surface."), symbol="R"),
-    Param("height_std", unit="m", default=None,
-          description=(r"Standard deviation :math:`\sigma_a` of the summit heights. Required "
-                       r"unless the summits come from a file."), symbol=r"\sigma_a"),
-    Param("topography", kind="path", default=None,
-          description=("A measured height map (any format SurfaceTopography reads, or a "
-                       "``.npy`` / ``.csv`` grid), relative to the model file: the summits, "
-                       "their heights and radii come from it "
-                       "(:ref:`guide-measured-surfaces`).")),
-    Param("pixel_size", kind="pair", unit="m", default=None, fittable=False,
-          description=(r"Grid spacings :math:`[\Delta x, \Delta y]` of a ``.npy`` or ``.csv`` "
-                       r"height map (other formats carry their own).")),
-    Param("short_cutoff", unit="m", default=None, fittable=False,
-          description=("Optional Gaussian low-pass (ISO 16610-61) of the height map before "
-                       "the summits are found: the wavelength passed at 50 %.")),
-), description="The rough surface (:ref:`guide-pol-ind-surface`).")
-_MATERIALS = Table("materials", (
-    Param("youngs_modulus", kind="pair", unit="Pa",
-          description="Young's moduli :math:`[E_1, E_2]` of the two bodies."),
-    Param("poisson_ratio", kind="pair", bound="poisson",
-          description=r"Poisson's ratios :math:`[\nu_1, \nu_2]` of the two bodies."),
-), description="The two bodies' elastic constants (:ref:`guide-pol-ind-surface`).")
-_DISCRETISATION = Table("discretisation", (
-    # Default: "direct" with a surface.topography, else "statistical" (PolInd._check).
-    Param("summation", kind="str", default=None, choices=("statistical", "direct"),
-          description=('``"statistical"`` (height bins of the Gaussian) or ``"direct"`` (one '
-                       'element per summit).')),
-    Param("elements", kind="int", default=64,
-          description="Statistical summation: the number of height bins (elements)."),
-    Param("seed", kind="int", bound="nonnegative", default=0,
-          description=("Direct summation: the seed of the random summit heights drawn from "
-                       "the Gaussian.")),
-    Param("heights_file", kind="path", default=None,
-          description=("Direct summation: a CSV file of measured summit heights (column "
-                       "``h``, m), relative to the model file; replaces "
-                       "``asperity_density``, ``nominal_area`` and ``height_std``.")),
-), default={},
-          description="How the surface becomes elements (:ref:`guide-pol-ind-elements`).")
-
+from polind.models.params import Param, VISCOUS
+from polind.models.pol_ind_tables import (DISCRETISATION_TABLE, MAP_KEYS, MAPPED_SURFACE_KEYS,
+                                         MATERIALS_TABLE, SAMPLED_SURFACE_KEYS, SURFACE_TABLE,
+                                         surface_of)
 
 
 def default_table() -> dict:
     """The default Pol-Ind ``[model]`` table, ``type`` included (:meth:`PolInd.example_parameters`)."""
     return {"type": PolInd.type, **PolInd.example_parameters()}
-
-
-# Surfaces built from the same surface, materials and discretisation tables are
-# the same (sampled summits are seeded; a heights file is keyed with its size and
-# modification time): a fit that moves only friction keys builds one, not one per
-# evaluation (a sampled direct surface takes 0.16 s).
-_SURFACES: "OrderedDict[str, object]" = OrderedDict()
-_SURFACES_KEPT = 8
-_SURFACES_LOCK = threading.Lock()
-
-
-def _surface_of(params):
-    """The surface of a parameter set, from the cache of recently built ones."""
-    from polind.contact import build_surface
-
-    parts = {key: params.get(key) for key in ("surface", "materials", "discretisation")}
-    for _, name, path in PolInd.files_in(params):
-        if path:
-            try:
-                status = os.stat(path)
-            except OSError:
-                return build_surface(params)        # its own error message
-            parts[f"{name}_status"] = [os.path.abspath(path), status.st_size, status.st_mtime_ns]
-    key = json.dumps(parts, sort_keys=True, default=str)
-    with _SURFACES_LOCK:       # sweeps build models on several threads
-        surface = _SURFACES.get(key)
-        if surface is not None:
-            _SURFACES.move_to_end(key)
-            return surface
-    surface = build_surface(params)
-    with _SURFACES_LOCK:
-        _SURFACES[key] = surface
-        while len(_SURFACES) > _SURFACES_KEPT:
-            _SURFACES.popitem(last=False)
-    return surface
 
 
 @register
@@ -186,7 +94,10 @@ class PolInd(FrictionModel):
         direct summation; :meth:`statistical_equivalent` is the
         Greenwood–Williamson model of the same map.
     materials : table
-        ``youngs_modulus`` [E1, E2] [Pa], ``poisson_ratio`` [nu1, nu2].
+        ``youngs_modulus`` [E1, E2] [Pa], ``poisson_ratio`` [nu1, nu2], and
+        optionally the rough body's ``hardness`` H [Pa] or ``yield_strength``
+        Y [Pa] (``H = 2.8 Y``): elastic-plastic asperities (Kogut–Etsion,
+        :ref:`guide-pol-ind-plasticity`); without either they are Hertzian.
     discretisation : table
         ``summation`` "statistical" (``elements`` height bins) or "direct"
         (``seed`` for Gaussian summit heights, or ``heights_file``: a CSV
@@ -247,9 +158,9 @@ class PolInd(FrictionModel):
           description=("Attraction parameter :math:`C`: how fast a slipping element's force "
                        "approaches its share of the Stribeck curve."), symbol="C"),
         VISCOUS,
-        _SURFACE,
-        _MATERIALS,
-        _DISCRETISATION,
+        SURFACE_TABLE,
+        MATERIALS_TABLE,
+        DISCRETISATION_TABLE,
     )
 
     @classmethod
@@ -262,7 +173,7 @@ class PolInd(FrictionModel):
         if "summation" not in discretisation:
             discretisation["summation"] = "direct" if mapped else "statistical"
         if mapped:
-            for key in _MAPPED_SURFACE_KEYS:
+            for key in MAPPED_SURFACE_KEYS:
                 if key in surface:
                     raise InputError(f"The 'surface.{key}' parameter of pol-ind is not used with a "
                                      f"'surface.topography': the height map gives every summit's "
@@ -276,7 +187,7 @@ class PolInd(FrictionModel):
                 raise InputError("A pol-ind model takes its summits from a 'surface.topography' "
                                  "or a 'discretisation.heights_file', not both. Remove one.")
         else:
-            for key in _MAP_KEYS:
+            for key in MAP_KEYS:
                 if key in surface:
                     raise InputError(f"The 'surface.{key}' parameter of pol-ind only goes with a "
                                      f"'surface.topography' (a height map). Remove it or add "
@@ -284,6 +195,10 @@ class PolInd(FrictionModel):
             if "asperity_radius" not in surface:
                 raise InputError("Missing key 'surface.asperity_radius' for a pol-ind model "
                                  "(needed without a 'surface.topography').")
+        materials = params["materials"]
+        if materials.get("hardness") is not None and materials.get("yield_strength") is not None:
+            raise InputError("The 'materials.hardness' and 'materials.yield_strength' of pol-ind are "
+                             "two ways of giving one number (H = 2.8 Y): give one of them. Got both.")
         count = discretisation["elements"]
         if not 1 <= count <= MAX_ELEMENTS:
             raise InputError(f"The 'discretisation.elements' parameter of pol-ind must be in the "
@@ -294,7 +209,7 @@ class PolInd(FrictionModel):
         if heights_file and discretisation["summation"] != "direct":
             raise InputError("The 'discretisation.heights_file' parameter of pol-ind needs "
                              "summation = \"direct\". Got \"statistical\" instead.")
-        for key in _SAMPLED_SURFACE_KEYS:
+        for key in SAMPLED_SURFACE_KEYS:
             if heights_file and key in surface:
                 raise InputError(f"The 'surface.{key}' parameter of pol-ind is not used with "
                                  f"a 'discretisation.heights_file': the file gives the "
@@ -321,7 +236,7 @@ class PolInd(FrictionModel):
             if len(self._contacts) >= 8:
                 self._contacts.pop(next(iter(self._contacts)))
             contact = build_contact({**self._params, "normal_load": load},
-                                    surface=_surface_of(self._params))
+                                    surface=surface_of(self._params))
             table = contact.elements
             for name, values in (("stiffness", table.stiffness), ("weight", table.weight)):
                 if not np.all(np.isfinite(values)):
@@ -331,7 +246,20 @@ class PolInd(FrictionModel):
                                      f"{self._params['static_coefficient']!r}?); expected "
                                      f"parameters of a physical size.")
             self._contacts[load] = contact
+            message = contact.validity_warning()
+            if message is not None:
+                warnings.warn(message, UserWarning, stacklevel=2)
         return self._contacts[load]
+
+    @property
+    def plastic(self) -> bool:
+        """Whether the model runs the elastic-plastic step (:ref:`guide-pol-ind-plasticity`).
+
+        A hardness (or yield strength) is given and an asperity can pass yield
+        on the surface; a hardness so large that none can (``H -> inf``) gives
+        exactly the Hertzian model, which runs the Hertzian step.
+        """
+        return surface_of(self._params).yields
 
     def element_table(self, normal_load=None):
         """The modified Maxwell-slip element table at a normal load (:ref:`guide-pol-ind-elements`)."""
@@ -355,7 +283,7 @@ class PolInd(FrictionModel):
         if self._params["surface"].get("topography") is None:
             raise InputError("statistical_equivalent() needs a pol-ind model with a "
                              "'surface.topography' (a measured height map). Got none.")
-        gw = _surface_of(self._params).greenwood_williamson
+        gw = surface_of(self._params).greenwood_williamson
         params = self.params
         params["surface"] = dict(gw)
         discretisation = params["discretisation"]
@@ -389,7 +317,9 @@ class PolInd(FrictionModel):
 
         mu_s = 0.15, mu_k = 0.10, vs = 1 mm/s, delta = 2, C = 1e4 N/s, sigma2 = 0;
         eta = 1e10 /m^2, A0 = 1e-4 m^2, R = 50 um, sigma_a = 0.5 um; E = 210 GPa and
-        nu = 0.3 for both bodies; 64 statistical elements (or ``elements``).
+        nu = 0.3 for both bodies, no hardness (Hertzian asperities: peak asperity
+        pressure 9.25 GPa, under the 10 GPa at which a Hertzian contact warns,
+        :ref:`guide-pol-ind-validity`); 64 statistical elements (or ``elements``).
         """
         return {
             "normal_load": 100.0,
@@ -528,6 +458,13 @@ class PolInd(FrictionModel):
     def step_functions(self):
         # Kernels load numba: imported on first use so `import polind` stays fast.
         from polind.kernels import pol_ind
+        if self.plastic:
+            # Elastic-plastic asperities: a path of their own (the Hertzian one stays as it is).
+            from polind.kernels import pol_ind_plastic as plastic
+            return StepFunctions(plastic.plastic_step, plastic.plastic_force,
+                                 pol_ind.pol_ind_tangent, plastic.plastic_path,
+                                 plastic.plastic_integrate, plastic.plastic_body,
+                                 motion=plastic.plastic_motion)
         return StepFunctions(pol_ind.pol_ind_step, pol_ind.pol_ind_force,
                              pol_ind.pol_ind_tangent, pol_ind.pol_ind_path,
                              pol_ind.pol_ind_integrate, pol_ind.pol_ind_body,
@@ -567,6 +504,8 @@ class PolInd(FrictionModel):
         scalars[slots.ADDRESSES:slots.ADDRESSES + 2] = special_addresses()
         table = np.zeros((slots.N_ROWS, gms_table.shape[1]))
         table[:gms_table.shape[0]] = gms_table
+        if surface.yields:
+            return _plastic_arrays(scalars, table, contact)
         return scalars, table
 
     def characteristic_scales(self):
@@ -602,3 +541,24 @@ class PolInd(FrictionModel):
             raise InputError(f"The 'normal_load' of pol-ind is too small for its surface: "
                              f"no asperity would be in contact. Got {low!r} N at index {index}; "
                              f"expected at least {smallest:.6g} N.")
+
+
+def _plastic_arrays(scalars, table, contact):
+    """The kernel arrays of :mod:`polind.kernels.pol_ind_plastic` from the Hertzian step's.
+
+    The surface vector of :mod:`polind.kernels.plastic_separation` after the
+    scalars, the elements' asperity counts and radii after the table's rows.
+    """
+    from polind.contact.plasticity import plastic_kernel_arguments
+    from polind.kernels import pol_ind_plastic as slots
+
+    vector = plastic_kernel_arguments(contact.surface)[0]
+    elements = contact.elements
+    plastic_scalars = np.zeros(slots.N_PLASTIC_SCALARS)
+    plastic_scalars[:scalars.shape[0]] = scalars
+    plastic_scalars[slots.PLASTIC_SURFACE:] = vector
+    plastic_table = np.zeros((slots.N_PLASTIC_ROWS, table.shape[1]))
+    plastic_table[:table.shape[0]] = table
+    plastic_table[slots.ELEMENT_ASPERITIES] = elements.asperities
+    plastic_table[slots.ELEMENT_RADIUS] = elements.radii
+    return plastic_scalars, plastic_table

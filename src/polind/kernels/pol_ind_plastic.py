@@ -1,0 +1,148 @@
+"""The Pol-Ind step of a model with elastic-plastic asperities (a hardness).
+
+The step of :mod:`polind.kernels.pol_ind` with another *capacities
+function* (:func:`plastic_capacities`): when the normal load changes, the
+separation is solved on the elastic-plastic surface
+(:func:`polind.kernels.plastic_separation.plastic_newton`, warm-started from
+the previous sample) and the element rows are re-evaluated with
+``k_j = n_j 8 G* a(delta_j)``, ``W_j = n_j mu_s P(delta_j)``
+(:func:`polind.kernels.plastic.plastic_element_properties`); everything else
+(the weights, the resets and clips, the GMS update) is the Hertzian step's
+own code (:ref:`guide-pol-ind-plasticity`).  A model without a hardness never
+runs these functions.
+
+Arrays
+------
+``scalars``: the slots of :mod:`polind.kernels.pol_ind` (its
+:data:`~polind.kernels.pol_ind.N_SCALARS`), then the surface vector of
+:mod:`polind.kernels.plastic_separation` from :data:`PLASTIC_SURFACE` on.
+``table``: the rows of :mod:`polind.kernels.pol_ind`, then each element's
+asperity count ``n_j`` (:data:`ELEMENT_ASPERITIES`) and summit radius ``R_j``
+(:data:`ELEMENT_RADIUS`).  ``state``: as :mod:`polind.kernels.pol_ind` (the
+element counts there are the Hertz weights ``n_j sqrt(R_j / R)``).
+"""
+
+from __future__ import annotations
+
+from polind.kernels import jit
+from polind.kernels.contract import run_motion, run_steps
+from polind.kernels.dynamics import advance_body_template, integrate_system_template
+from polind.kernels.elements import ELEMENT_STIFFNESS
+from polind.kernels.plastic import plastic_element_properties
+from polind.kernels.plastic_separation import (CRITICAL_FACTOR, PLASTIC_SCALE, SIZE,
+                                               YIELD_COEFFICIENT, plastic_lower, plastic_newton)
+from polind.kernels.pol_ind import (E_STAR, ELEMENT_SCRATCH, G_STAR, LOAD_SLOPE, LOAD_VALUE,
+                                    LOWER, N_ROWS, N_SCALARS, RADIUS, SEPARATION,
+                                    STATIC_COEFFICIENT, UPPER, force_with, load_step_with,
+                                    pol_ind_tangent, set_load_with, settled_step_with, step_with)
+from polind.kernels.separation import predicted_start
+
+__all__ = ["PLASTIC_SURFACE", "N_PLASTIC_SCALARS", "ELEMENT_ASPERITIES", "ELEMENT_RADIUS",
+           "N_PLASTIC_ROWS", "plastic_capacities", "plastic_step", "plastic_force", "plastic_path",
+           "plastic_motion", "plastic_integrate", "plastic_body"]
+
+#: The scalars' slot where the surface vector of :mod:`polind.kernels.plastic_separation` starts.
+PLASTIC_SURFACE = N_SCALARS
+N_PLASTIC_SCALARS = N_SCALARS + SIZE
+
+#: The table's row of asperity counts ``n_j``.
+ELEMENT_ASPERITIES = N_ROWS
+#: The table's row of summit radii ``R_j`` [m].
+ELEMENT_RADIUS = N_ROWS + 1
+N_PLASTIC_ROWS = N_ROWS + 2
+
+
+@jit
+def plastic_capacities(scalars, table, state, normal_load):
+    """Solve the elastic-plastic separation, fill the stiffness and capacity rows; return ``d``.
+
+    The capacities function of the elastic-plastic step (compiled apart:
+    the Newton iteration on a quadrature or a sum with jumps is no place for
+    inlining).  Bracket: the statistical surface's range, or for a direct
+    one the highest element alone carrying the load; start: the Newton step
+    predicted from the previous solution.
+    """
+    n = table.shape[1]
+    heights = state[2 * n:3 * n]
+    weights = state[3 * n:4 * n]
+    counts = table[ELEMENT_ASPERITIES]
+    radii = table[ELEMENT_RADIUS]
+    surface = scalars[PLASTIC_SURFACE:PLASTIC_SURFACE + SIZE]
+    lower = plastic_lower(normal_load, scalars[LOWER], surface, heights, counts, radii)
+    start = predicted_start(scalars[SEPARATION], scalars[LOAD_VALUE], scalars[LOAD_SLOPE],
+                            normal_load)
+    separation, value, slope, _ = plastic_newton(normal_load, start, lower, scalars[UPPER], surface,
+                                                 heights, weights, counts, radii)
+    plastic_element_properties(heights, weights, counts, radii, separation, scalars[RADIUS],
+                               scalars[E_STAR], scalars[G_STAR], scalars[STATIC_COEFFICIENT],
+                               surface[CRITICAL_FACTOR], surface[PLASTIC_SCALE],
+                               surface[YIELD_COEFFICIENT], table[ELEMENT_STIFFNESS],
+                               table[ELEMENT_SCRATCH])
+    scalars[LOAD_VALUE] = value
+    scalars[LOAD_SLOPE] = slope
+    return separation
+
+
+@jit
+def plastic_set_load(scalars, table, state, normal_load):
+    """:func:`polind.kernels.pol_ind.set_load_with` :func:`plastic_capacities` (compiled apart)."""
+    set_load_with(plastic_capacities, scalars, table, state, normal_load)
+
+
+@jit
+def plastic_load_step(scalars, table, state, step, displacement, step_velocity, sample_velocity,
+                      normal_load):
+    """:func:`polind.kernels.pol_ind.load_step_with` :func:`plastic_capacities` (compiled apart)."""
+    return load_step_with(plastic_capacities, scalars, table, state, step, displacement,
+                          step_velocity, sample_velocity, normal_load)
+
+
+@jit(inline="always")
+def plastic_step(scalars, table, state, step, displacement, step_velocity, sample_velocity,
+                 normal_load):
+    """The Pol-Ind step (:func:`polind.kernels.pol_ind.pol_ind_step`) with elastic-plastic asperities."""
+    return step_with(plastic_load_step, plastic_set_load, scalars, table, state, step, displacement,
+                     step_velocity, sample_velocity, normal_load)
+
+
+@jit(inline="always")
+def plastic_settled_step(scalars, table, state, step, displacement, step_velocity, sample_velocity,
+                         normal_load):
+    """:func:`polind.kernels.pol_ind.settled_step` with elastic-plastic asperities."""
+    return settled_step_with(plastic_set_load, scalars, table, state, step, displacement,
+                             step_velocity, sample_velocity, normal_load)
+
+
+@jit(inline="always")
+def plastic_force(scalars, table, state, sample_velocity, normal_load):
+    return force_with(plastic_set_load, scalars, table, state, sample_velocity, normal_load)
+
+
+@jit
+def plastic_path(scalars, table, state, step, displacement, step_velocity, sample_velocity,
+                 loads, constant_load, lo, hi, first, out_force):
+    """:func:`polind.kernels.contract.run_steps` specialised to elastic-plastic Pol-Ind."""
+    run_steps(plastic_step, plastic_force, scalars, table, state, step, displacement,
+              step_velocity, sample_velocity, loads, constant_load, lo, hi, first, out_force)
+
+
+@jit
+def plastic_motion(scalars, table, state, source_t, source_motion, t, motion, by_velocity,
+                   start_position, start_velocity, continuing, position, velocity, loads,
+                   constant_load, lo, hi, first, out_force):
+    """:func:`polind.kernels.contract.run_motion` specialised to elastic-plastic Pol-Ind."""
+    return run_motion(plastic_step, plastic_force, scalars, table, state, source_t, source_motion,
+                      t, motion, by_velocity, start_position, start_velocity, continuing,
+                      position, velocity, loads, constant_load, lo, hi, first, out_force)
+
+
+@jit
+def plastic_integrate(arguments):
+    """:func:`polind.kernels.dynamics.integrate_system_template` for elastic-plastic Pol-Ind."""
+    integrate_system_template(plastic_settled_step, pol_ind_tangent, arguments)
+
+
+@jit
+def plastic_body(arguments):
+    """:func:`polind.kernels.dynamics.advance_body_template` for elastic-plastic Pol-Ind."""
+    advance_body_template(plastic_settled_step, pol_ind_tangent, arguments)
