@@ -81,6 +81,8 @@ def _default_text(entry, required, table_kind=False) -> str:
 
 
 def _range_text(param) -> str:
+    if param.kind == "bool":
+        return "``true`` or ``false``"
     if param.kind in ("str", "path"):
         if param.choices:
             return " or ".join(f'``"{choice}"``' for choice in param.choices)

@@ -50,7 +50,7 @@ _SAMPLED_SURFACE_KEYS = ("asperity_density", "nominal_area", "height_std")
 # The keys a measured height map replaces (it gives every summit's height and radius).
 _MAPPED_SURFACE_KEYS = ("asperity_density", "asperity_radius", "height_std")
 # The keys that only go with a height map.
-_MAP_KEYS = ("pixel_size", "short_cutoff")
+_MAP_KEYS = ("pixel_size", "short_cutoff", "remove_outliers", "levelling", "channel")
 _SURFACE = Table("surface", (
     Param("asperity_density", unit="1/m^2", default=None,
           description=(r"Summit density :math:`\eta`, summits per unit nominal area. Required "
@@ -75,7 +75,20 @@ _SURFACE = Table("surface", (
                        r"height map (other formats carry their own).")),
     Param("short_cutoff", unit="m", default=None, fittable=False,
           description=("Optional Gaussian low-pass (ISO 16610-61) of the height map before "
-                       "the summits are found: the wavelength passed at 50 %.")),
+                       "the summits are found: the wavelength passed at 50 %; at least twice "
+                       "the smaller pixel spacing.")),
+    Param("remove_outliers", kind="bool", default=None, fittable=False,
+          description=("Mark the map's outliers (spikes) missing; default ``false``: counted "
+                       "and warned about (:ref:`guide-measured-surfaces-conditioning`).")),
+    Param("levelling", kind="str", default=None, choices=("plane", "lines"), fittable=False,
+          description=('The map\'s levelling: ``"plane"`` (default) or ``"lines"``, line by '
+                       'line for AFM/STM maps (:ref:`guide-measured-surfaces-conditioning`).')),
+    Param("channel", kind="str", default=None, fittable=False,
+          description="The height channel of a map file with several, by name."),
+    Param("ball_radius", unit="m", default=None, fittable=False,
+          description=("Ball on flat: the ball's radius; the nominal area is its Hertz contact "
+                       "at the (constant) normal load (:ref:`guide-measured-surfaces-ball`)."),
+          symbol="R_b"),
 ), description="The rough surface (:ref:`guide-pol-ind-surface`).")
 _MATERIALS = Table("materials", (
     Param("youngs_modulus", kind="pair", unit="Pa",
@@ -121,6 +134,8 @@ def _surface_of(params):
     from polind.contact import build_surface
 
     parts = {key: params.get(key) for key in ("surface", "materials", "discretisation")}
+    if params["surface"].get("ball_radius") is not None:    # its nominal area follows the load
+        parts["normal_load"] = params["normal_load"]
     for _, name, path in PolInd.files_in(params):
         if path:
             try:
@@ -274,7 +289,11 @@ class PolInd(FrictionModel):
             if discretisation.get("heights_file"):
                 raise InputError("A pol-ind model takes its summits from a 'surface.topography' "
                                  "or a 'discretisation.heights_file', not both. Remove one.")
-        else:
+        if "ball_radius" in surface and "nominal_area" in surface:
+            raise InputError("A pol-ind surface takes its nominal area from 'surface.nominal_area' "
+                             "or 'surface.ball_radius' (the Hertz contact of the ball), not both. "
+                             "Remove one.")
+        if not mapped:
             for key in _MAP_KEYS:
                 if key in surface:
                     raise InputError(f"The 'surface.{key}' parameter of pol-ind only goes with a "
@@ -293,11 +312,14 @@ class PolInd(FrictionModel):
         if heights_file and discretisation["summation"] != "direct":
             raise InputError("The 'discretisation.heights_file' parameter of pol-ind needs "
                              "summation = \"direct\". Got \"statistical\" instead.")
-        for key in _SAMPLED_SURFACE_KEYS:
+        ball = "ball_radius" in surface
+        for key in _SAMPLED_SURFACE_KEYS + ("ball_radius",):
             if heights_file and key in surface:
                 raise InputError(f"The 'surface.{key}' parameter of pol-ind is not used with "
                                  f"a 'discretisation.heights_file': the file gives the "
                                  f"summits themselves. Remove it.")
+            if key == "ball_radius" or (key == "nominal_area" and ball):
+                continue
             if not heights_file and key not in surface:
                 raise InputError(f"Missing key 'surface.{key}' for a pol-ind model (needed "
                                  f"without a 'discretisation.heights_file').")
@@ -319,8 +341,11 @@ class PolInd(FrictionModel):
         if load not in self._contacts:
             if len(self._contacts) >= 8:
                 self._contacts.pop(next(iter(self._contacts)))
-            contact = build_contact({**self._params, "normal_load": load},
-                                    surface=_surface_of(self._params))
+            loaded = {**self._params, "normal_load": load}
+            # With a ball radius the nominal area (so the surface) depends on the load.
+            surface = _surface_of(loaded if self._params["surface"].get("ball_radius")
+                                  else self._params)
+            contact = build_contact(loaded, surface=surface)
             table = contact.elements
             for name, values in (("stiffness", table.stiffness), ("weight", table.weight)):
                 if not np.all(np.isfinite(values)):
@@ -354,9 +379,13 @@ class PolInd(FrictionModel):
         if self._params["surface"].get("topography") is None:
             raise InputError("statistical_equivalent() needs a pol-ind model with a "
                              "'surface.topography' (a measured height map). Got none.")
-        gw = _surface_of(self._params).greenwood_williamson
+        gw = dict(_surface_of(self._params).greenwood_williamson)
         params = self.params
-        params["surface"] = dict(gw)
+        ball_radius = params["surface"].get("ball_radius")
+        if ball_radius is not None:        # the same ball: the area follows the load
+            gw.pop("nominal_area")
+            gw["ball_radius"] = ball_radius
+        params["surface"] = gw
         discretisation = params["discretisation"]
         discretisation["summation"] = "statistical"
         discretisation.pop("heights_file", None)
@@ -573,6 +602,12 @@ class PolInd(FrictionModel):
         """Loads the run may use: at most the state's table load, within the surface's range."""
         table_load = float(state.variables["table_load"][0])
         peak = float(np.max(loads))
+        other = np.abs(np.asarray(loads) - table_load) > 1e-12 * table_load
+        if self._params["surface"].get("ball_radius") and np.any(other):
+            raise InputError(f"A 'normal_load' that varies ({float(loads[np.argmax(other)])!r} N, "
+                             f"the contact built at {table_load!r} N) is not supported with "
+                             f"'surface.ball_radius' of pol-ind: a run keeps the ball's Hertz "
+                             f"area at one load. Expected a constant load, or 'nominal_area'.")
         if peak > table_load * (1.0 + 1e-12):
             raise InputError(f"The 'normal_load' reaches {peak!r} N but the state's element "
                              f"table was built for at most {table_load!r} N; start the first "
