@@ -10,8 +10,9 @@ levelled map ``h`` with mean ``hbar``:
   here from the same points (SurfaceTopography computes no Sa, Ssk or Sku);
 - ``Sdq``: the rms gradient ``<h_x^2 + h_y^2>^(1/2)``,
   SurfaceTopography's ``rms_gradient`` (two-point differences
-  ``(h[i+1, j] - h[i, j]) / dx``; a difference that reaches a missing point
-  is left out);
+  ``(h[i+1, j] - h[i, j]) / dx``; next to a missing point SurfaceTopography
+  leaves out the differences its linear interpolation cannot evaluate, a
+  few more than the ones that reach the point);
 - ``rms_curvature``: the rms of the mean curvature ``(h_xx + h_yy) / 2``,
   SurfaceTopography's ``rms_curvature_from_area`` (three-point differences).
 
