@@ -138,13 +138,14 @@ def _topography_text(map_path, summary, plot_path, to_stdout) -> list:
     gw = summary["greenwood_williamson"]
     cutoff = summary["short_cutoff"]
     rough = summary["roughness"]
-    removed = "marked missing" if summary["outliers_removed"] else "left in"
+    removed = ("" if not summary["outliers"] else
+               " (marked missing)" if summary["outliers_removed"] else " (left in)")
     lines = [
         f"Height map {map_path}: {nx} x {ny} points, pixel {dx:.6g} x {dy:.6g} m",
         f"  channel            {summary['channel'] or '(a grid: the heights)'}",
         f"  valid points       {summary['valid_points']} of {nx * ny} "
         f"(nominal area {summary['nominal_area']:.6g} m^2)",
-        f"  outliers           {summary['outliers']} ({removed})",
+        f"  outliers           {summary['outliers']}{removed}",
         f"  levelling          {summary['levelling']}",
         f"  low-pass cut-off   {'none' if cutoff is None else f'{cutoff:.6g} m'}",
         f"  rms height         {summary['rms_height']:.6g} m (after levelling)",
