@@ -217,7 +217,7 @@ def topography_figure(surface, effective_modulus=None):
               else f", low-pass cut-off {surface.short_cutoff * 1e6:.3g} µm")
     channel = "" if surface.channel is None else f" (channel {surface.channel})"
     rough = surface.roughness
-    outliers = (f"{surface.outliers:,} outliers "
+    outliers = ("no outlier" if not surface.outliers else f"{surface.outliers:,} outliers "
                 f"{'marked missing' if surface.outliers_removed else 'left in'}")
     name = os.path.basename(surface.source)
     figure.suptitle(f"{name}{channel}: {nx} x {ny} points, pixel {dx * 1e6:.3g} x "

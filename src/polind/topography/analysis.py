@@ -142,7 +142,7 @@ class MeasuredSurface:
         """``{Sa, Sq, Ssk, Sku, Sdq, rms_curvature}`` of the analysed map.
 
         :func:`polind.topography.roughness.standard_roughness` of
-        :attr:`height_map` (levelled, outliers missing if removed, low-passed
+        ``height_map`` (levelled, outliers missing if removed, low-passed
         with a cut-off): ``Sq``, ``Sdq`` (SurfaceTopography's
         ``rms_gradient``) and ``rms_curvature`` computed by
         SurfaceTopography.

@@ -13,7 +13,7 @@ Sources:
   file with several channels (an AFM's height, amplitude, phase, ...) gives
   the channel asked for by name, else SurfaceTopography's default channel if
   it holds heights, else the first height channel; the map records which
-  (:attr:`HeightMap.channel`);
+  (``HeightMap.channel``);
 - a ``.npy`` array or a ``.csv`` grid (comma-separated, one row per ``i``,
   no header; an empty field or ``nan`` is a missing point), heights in
   metres, with the pixel size given by the caller.
@@ -153,7 +153,7 @@ def read_height_map(path, pixel_size=None, channel=None) -> HeightMap:
     -------
     HeightMap
         Missing points of the file (masked or ``NaN``) are ``NaN``;
-        :attr:`HeightMap.channel` names the channel read.
+        ``HeightMap.channel`` names the channel read.
 
     Raises
     ------
