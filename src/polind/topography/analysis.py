@@ -198,7 +198,7 @@ class MeasuredSurface:
 
     @functools.cached_property
     def cutoff_study(self) -> list:
-        """:func:`cutoff_study` over :func:`default_cutoffs` (the ``--json`` table)."""
+        """:func:`~polind.topography.analysis.cutoff_study` over :func:`~polind.topography.analysis.default_cutoffs` (the ``--json`` table)."""
         return cutoff_study(self)
 
     def plasticity_index(self, effective_modulus, hardness) -> float:
@@ -228,7 +228,7 @@ class MeasuredSurface:
         """What the user should know about the map, as sentences (empty when all is well).
 
         Outliers found and left in; a summit density of at least
-        :data:`NEAR_WHITE_NOISE` of the white-noise rate.
+        :data:`~polind.topography.analysis.NEAR_WHITE_NOISE` of the white-noise rate.
         """
         notes = []
         if self.outliers and not self.outliers_removed:
@@ -447,7 +447,7 @@ def cutoff_study(surface: MeasuredSurface, cutoffs=None) -> list:
     surface : MeasuredSurface
     cutoffs : sequence of float, optional
         Cut-off wavelengths [m], each at least ``2 min(dx, dy)``; default
-        :func:`default_cutoffs`.
+        :func:`~polind.topography.analysis.default_cutoffs`.
 
     Returns
     -------
