@@ -416,8 +416,8 @@ def test_a_cutoff_under_two_pixels_is_refused_in_a_model(rough_map):
     path, _ = rough_map
     model = map_model(path, surface={"topography": str(path), "pixel_size": list(PIXEL),
                                      "short_cutoff": 0.9e-6})
-    with pytest.raises(polind.InputError, match=r"'short_cutoff' .* at least twice the smaller "
-                                                r"pixel spacing .* 1e-06 m"):
+    with pytest.raises(polind.InputError, match=r"rough.npy: the 'short_cutoff' must be at least "
+                                                r"twice the smaller pixel spacing, 1e-06 m"):
         model.contact()
 
 

@@ -1,4 +1,6 @@
-"""The nominal area of a ball on a flat: its macroscopic Hertz contact (:ref:`guide-measured-surfaces-ball`).
+"""The nominal area of a ball on a flat, its macroscopic Hertz contact.
+
+See :ref:`guide-measured-surfaces-ball`.
 
 On a ball-on-flat tribometer the rough contact is not the whole sample: it
 is the patch the ball flattens.  Hertz's solution for a sphere of radius

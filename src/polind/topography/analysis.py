@@ -198,7 +198,10 @@ class MeasuredSurface:
 
     @functools.cached_property
     def cutoff_study(self) -> list:
-        """:func:`~polind.topography.analysis.cutoff_study` over :func:`~polind.topography.analysis.default_cutoffs` (the ``--json`` table)."""
+        """The cut-off study (the ``--json`` table): :func:`~polind.topography.analysis.cutoff_study`.
+
+        Over :func:`~polind.topography.analysis.default_cutoffs`.
+        """
         return cutoff_study(self)
 
     def plasticity_index(self, effective_modulus, hardness) -> float:
@@ -409,10 +412,9 @@ def check_cutoff(short_cutoff, pixel_size, source="height map") -> float:
     cutoff = check_number("topography", "short_cutoff", short_cutoff, "positive")
     shortest = 2.0 * min(pixel_size)
     if cutoff < shortest * (1.0 - 1e-12):
-        raise InputError(f"The 'short_cutoff' parameter of topography must be at least twice the "
-                         f"smaller pixel spacing of {source}, {shortest:.6g} m (the shortest "
-                         f"wavelength on its grid; a shorter cut-off filters nothing). Got "
-                         f"{cutoff!r} instead.")
+        raise InputError(f"{source}: the 'short_cutoff' must be at least twice the smaller "
+                         f"pixel spacing, {shortest:.6g} m (the shortest wavelength on the grid; "
+                         f"a shorter cut-off filters nothing). Got {cutoff!r} instead.")
     return cutoff
 
 
