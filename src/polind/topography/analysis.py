@@ -364,12 +364,13 @@ def analyse(height_map: HeightMap, short_cutoff=None, *, remove_outliers=False,
     if not isinstance(remove_outliers, (bool, np.bool_)):
         raise InputError(f"The 'remove_outliers' parameter of topography must be true or false. "
                          f"Got {remove_outliers!r} instead.")
-    outliers = find_outliers(height_map.heights, (dx, dy), levelling, source=height_map.source)
-    measured = height_map.heights
-    if remove_outliers and outliers.any():
-        measured = np.where(outliers, np.nan, measured)
-    levelled = HeightMap(level_map(measured, (dx, dy), levelling, height_map.source),
-                         (float(dx), float(dy)), height_map.source, height_map.channel)
+    heights = level_map(height_map.heights, (dx, dy), levelling, height_map.source)
+    outliers = find_outliers(height_map.heights, (dx, dy), levelling, source=height_map.source,
+                             levelled=heights)
+    if remove_outliers and outliers.any():        # levelled again, without them
+        heights = level_map(np.where(outliers, np.nan, height_map.heights), (dx, dy), levelling,
+                            height_map.source)
+    levelled = HeightMap(heights, (float(dx), float(dy)), height_map.source, height_map.channel)
     analysed = levelled
     if short_cutoff is not None:
         analysed = HeightMap(low_pass(levelled.heights, (dx, dy), short_cutoff),

@@ -68,7 +68,7 @@ def robust_scale(values) -> tuple[float, float]:
 
 
 def find_outliers(heights, pixel_size, levelling="plane", threshold=OUTLIER_THRESHOLD,
-                  source="height map"):
+                  source="height map", levelled=None):
     """The outliers of a height map by the robust rule of this module.
 
     Parameters
@@ -84,6 +84,9 @@ def find_outliers(heights, pixel_size, levelling="plane", threshold=OUTLIER_THRE
         ``k``, in robust standard deviations.
     source : str, optional
         Named in error messages.
+    levelled : numpy.ndarray, optional
+        ``heights`` levelled by ``levelling`` already (the first round's), to
+        save levelling it again.
 
     Returns
     -------
@@ -100,8 +103,9 @@ def find_outliers(heights, pixel_size, levelling="plane", threshold=OUTLIER_THRE
     """
     h = np.asarray(heights, dtype=np.float64)
     outliers = np.zeros(h.shape, dtype=bool)
-    for _ in range(ROUNDS):
-        levelled = level_map(np.where(outliers, np.nan, h), pixel_size, levelling, source)
+    for round_ in range(ROUNDS):
+        if round_ or levelled is None:
+            levelled = level_map(np.where(outliers, np.nan, h), pixel_size, levelling, source)
         centre, scale = robust_scale(levelled)
         with np.errstate(invalid="ignore"):
             new = np.abs(levelled - centre) > threshold * scale
