@@ -382,3 +382,90 @@ def test_a_fit_on_a_map_model_frees_only_friction_keys(rough_map):
         fit = polind.identify(truth.with_params(static_coefficient=0.2), data)
     assert not any(key.startswith("surface.") for key in fit.free)
     assert fit.model.params["static_coefficient"] == pytest.approx(0.15, rel=1e-3)
+
+
+# --- map conditioning keys and the ball on a flat (issue 22) ------------------------------------
+
+def test_conditioning_keys_reach_the_summits(tmp_path, rough_map):
+    path, measured = rough_map
+    heights = np.load(path)
+    rng = np.random.default_rng(4)
+    spikes = rng.choice(heights.size, heights.size // 200, replace=False)
+    heights.ravel()[spikes] += rng.choice([-1.0, 1.0], spikes.size) * 3e-6
+    spiky = tmp_path / "spiky.npy"
+    np.save(spiky, heights)
+    with pytest.warns(UserWarning, match=r"\d+ point\(s\) lie more than 8 robust"):
+        kept = map_model(spiky).contact().surface.asperity_count
+    model = map_model(spiky, surface={"topography": str(spiky), "pixel_size": list(PIXEL),
+                                      "remove_outliers": True, "levelling": "lines"})
+    removed = load_measured_surface(spiky, PIXEL, remove_outliers=True, levelling="lines")
+    assert removed.outliers == spikes.size and removed.levelling == "lines"
+    assert model.contact().surface.asperity_count == removed.summits != kept
+    with pytest.raises(polind.InputError, match="'surface.remove_outliers' parameter of pol-ind "
+                                                "must be true or false"):
+        map_model(spiky, surface={"topography": str(spiky), "pixel_size": list(PIXEL),
+                                  "remove_outliers": "yes"})
+    for key, value in (("remove_outliers", True), ("levelling", "lines"), ("channel", "Height")):
+        table = default_table()
+        table["surface"][key] = value
+        with pytest.raises(polind.InputError, match=f"'surface.{key}' .* only goes with"):
+            polind.model_from_dict({"model": table})
+
+
+def test_a_cutoff_under_two_pixels_is_refused_in_a_model(rough_map):
+    path, _ = rough_map
+    model = map_model(path, surface={"topography": str(path), "pixel_size": list(PIXEL),
+                                     "short_cutoff": 0.9e-6})
+    with pytest.raises(polind.InputError, match=r"rough.npy: the 'short_cutoff' must be at least "
+                                                r"twice the smaller pixel spacing, 1e-06 m"):
+        model.contact()
+
+
+def hertz_area(load, ball_radius):
+    """pi a^2, a = (3 N R_b / (4 E*))^(1/3): the ball's macroscopic Hertz contact."""
+    return math.pi * (3 * load * ball_radius / (4 * E_STAR)) ** (2 / 3)
+
+
+def test_a_ball_radius_gives_the_nominal_area_of_the_balls_hertz_contact(rough_map):
+    path, measured = rough_map
+    ball = {"topography": str(path), "pixel_size": list(PIXEL), "ball_radius": 2e-3}
+    model = map_model(path, load=0.05, surface=ball)
+    for load in (0.05, 0.2):
+        contact = model.contact(load)
+        same = map_model(path, load=load, nominal_area=hertz_area(load, 2e-3)).contact()
+        scale = hertz_area(load, 2e-3) / measured.nominal_area
+        np.testing.assert_allclose(contact.surface.counts, scale, rtol=1e-12)
+        assert contact.separation == pytest.approx(same.separation, rel=1e-12, abs=1e-20)
+        assert contact.real_area == pytest.approx(same.real_area, rel=1e-12)
+    # The statistical surfaces take it too, and the statistical equivalent keeps the ball.
+    table = default_table()
+    table["surface"] = {key: value for key, value in table["surface"].items()
+                        if key != "nominal_area"}
+    table["surface"]["ball_radius"] = 5e-3
+    statistical = polind.model_from_dict({"model": table})
+    assert statistical.contact().surface.nominal_area == pytest.approx(
+        hertz_area(table["normal_load"], 5e-3), rel=1e-12)
+    twin = model.statistical_equivalent()
+    assert twin.params["surface"]["ball_radius"] == 2e-3
+    assert twin.contact().surface.nominal_area == pytest.approx(hertz_area(0.05, 2e-3), rel=1e-12)
+
+
+def test_a_ball_radius_refuses_a_varying_load_and_a_second_area(rough_map):
+    path, _ = rough_map
+    ball = {"topography": str(path), "pixel_size": list(PIXEL), "ball_radius": 2e-3}
+    model = map_model(path, load=0.05, surface=ball)
+    t = np.linspace(0.0, 1.0, 51)
+    x = 1e-8 * np.sin(2 * np.pi * t)
+    constant = polind.simulate(model, t, x=x, normal_load=np.full_like(t, 0.05))
+    np.testing.assert_array_equal(constant.force, polind.simulate(model, t, x=x).force)
+    with pytest.raises(polind.InputError, match=r"'normal_load' that varies .* not supported "
+                                                r"with 'surface.ball_radius'"):
+        polind.simulate(model, t, x=x, normal_load=0.05 + 0.01 * t)
+    with pytest.raises(polind.InputError, match="'surface.nominal_area' or 'surface.ball_radius'"):
+        map_model(path, nominal_area=1e-8, surface={**ball, "nominal_area": 1e-8})
+    table = default_table()
+    table["surface"] = {"asperity_radius": 5e-5, "ball_radius": 1e-3}
+    table["discretisation"] = {"summation": "direct", "heights_file": "h.csv"}
+    with pytest.raises(polind.InputError, match="'surface.ball_radius' .* not used with a "
+                                                "'discretisation.heights_file'"):
+        polind.model_from_dict({"model": table})

@@ -36,7 +36,7 @@ from polind.topography_figure import direct_normal_load, figure_png, statistical
 #: The keys INTERFACE.md lists for ``polind topography --json``.
 JSON_KEYS = {"grid", "pixel_size", "valid_points", "rms_height", "summits", "summit_density",
              "summit_radius_mean", "summit_radius_median", "summit_height_std",
-             "greenwood_williamson"}
+             "greenwood_williamson", "roughness", "channel", "outliers", "cutoff_study"}
 
 
 # --- helpers -------------------------------------------------------------------------------
@@ -438,6 +438,8 @@ def test_cli_json_has_the_interface_keys(capsys, caps_npy):
     assert set(summary["greenwood_williamson"]) == {"asperity_density", "asperity_radius",
                                                     "height_std"}
     assert summary["greenwood_williamson"]["asperity_radius"] == summary["summit_radius_mean"]
+    assert summary["channel"] is None                  # a .npy grid has no channels
+    assert set(summary["roughness"]) == {"Sa", "Sq", "Ssk", "Sku", "Sdq", "rms_curvature"}
 
 
 def test_cli_plot_writes_a_png_and_the_text_summary(capsys, caps_npy, tmp_path):

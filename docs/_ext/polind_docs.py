@@ -82,6 +82,8 @@ def _default_text(entry, required, table_kind=False) -> str:
 
 
 def _range_text(param) -> str:
+    if param.kind == "bool":
+        return "``true`` or ``false``"
     if param.kind in ("str", "path"):
         if param.choices:
             return " or ".join(f'``"{choice}"``' for choice in param.choices)
@@ -442,9 +444,12 @@ MODULES = (
                                              "polind.contact.heights",
                                              "polind.contact.separation",
                                              "polind.contact.elements",
-                                             "polind.contact.validity")),
+                                             "polind.contact.validity",
+                                             "polind.contact.ball")),
     ("Measured surfaces, module by module", ("polind.topography.heightmap",
                                              "polind.topography.summits",
+                                             "polind.topography.outliers",
+                                             "polind.topography.roughness",
                                              "polind.topography.analysis",
                                              "polind.topography_figure")),
     ("Sweeps, module by module", ("polind.sweeps.design", "polind.sweeps.metrics",

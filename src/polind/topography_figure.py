@@ -1,8 +1,8 @@
 """The figure of ``polind topography --plot``: a measured surface as a tribologist reads it.
 
-Five panels (:func:`topography_figure`):
+Seven panels (:func:`topography_figure`):
 
-1. the levelled map with its summits marked;
+1. the levelled map with its summits marked (and its outliers, if left in);
 2. the summit-height histogram against the Gaussian of the same mean and
    standard deviation (the Greenwood–Williamson assumption), beside the
    heights of all points of the map;
@@ -19,7 +19,13 @@ Five panels (:func:`topography_figure`):
    map's summits carry), normalised by ``mu_s N``: the direct summation over
    the measured summits (one element per summit in contact, ``k_j = 8 G*
    sqrt(R_j delta_j)``, ``W_j = mu_s P_j``) against the 256-element table of
-   the Greenwood–Williamson equivalent (:ref:`guide-measured-surfaces`).
+   the Greenwood–Williamson equivalent (:ref:`guide-measured-surfaces`);
+6. the power spectral density of the analysed map (SurfaceTopography's
+   radially averaged areal PSD, :func:`polind.topography.power_spectrum`),
+   with the pixel's Nyquist wavelength and the low-pass cut-off;
+7. the cut-off study (:func:`polind.topography.cutoff_study`): summits and
+   ``1 / mean(kappa)`` against ``short_cutoff``, with the white-noise summit
+   count (one in nine points).
 
 It draws a :class:`polind.topography.MeasuredSurface` (the map read and
 analysed by :mod:`polind.topography`) and computes panels 4 and 5 with the
@@ -172,7 +178,7 @@ def virgin_curves(surface, normal_load=VIRGIN_LOAD, static_coefficient=VIRGIN_ST
 
 
 def topography_figure(surface, effective_modulus=None):
-    """The four-panel figure of a :class:`~polind.topography.analysis.MeasuredSurface`.
+    """The seven-panel figure of a :class:`~polind.topography.analysis.MeasuredSurface`.
 
     Parameters
     ----------
@@ -193,23 +199,33 @@ def topography_figure(surface, effective_modulus=None):
 
     if effective_modulus is None:
         effective_modulus = _default_effective_modulus()
-    figure = Figure(figsize=(19, 10), layout="constrained")
+    figure = Figure(figsize=(25, 11), layout="constrained")
     FigureCanvasAgg(figure)
-    axes = figure.subplot_mosaic([["map", "heights", "radii"], ["map", "loads", "virgin"]],
-                                 width_ratios=[1.1, 1, 1])
+    axes = figure.subplot_mosaic([["map", "heights", "radii", "psd"],
+                                  ["map", "loads", "virgin", "cutoff"]],
+                                 width_ratios=[1.15, 1, 1, 1])
     _draw_map(figure, axes["map"], surface)
     _draw_heights(axes["heights"], surface)
     _draw_radii(axes["radii"], surface)
     _draw_loads(axes["loads"], surface, effective_modulus)
     _draw_virgin(axes["virgin"], surface, effective_modulus)
+    _draw_psd(axes["psd"], surface)
+    _draw_cutoff_study(axes["cutoff"], surface)
     nx, ny = surface.grid
     dx, dy = surface.pixel_size
     cutoff = ("" if surface.short_cutoff is None
               else f", low-pass cut-off {surface.short_cutoff * 1e6:.3g} µm")
+    channel = "" if surface.channel is None else f" (channel {surface.channel})"
+    rough = surface.roughness
+    outliers = ("no outlier" if not surface.outliers else f"{surface.outliers:,} outliers "
+                f"{'marked missing' if surface.outliers_removed else 'left in'}")
     name = os.path.basename(surface.source)
-    figure.suptitle(f"{name}: {nx} x {ny} points, pixel {dx * 1e6:.3g} x "
-                    f"{dy * 1e6:.3g} µm, {surface.valid_points:,} valid, rms height "
-                    f"{surface.rms_height * 1e9:.3g} nm{cutoff}")
+    figure.suptitle(f"{name}{channel}: {nx} x {ny} points, pixel {dx * 1e6:.3g} x "
+                    f"{dy * 1e6:.3g} µm, {surface.valid_points:,} valid, {outliers}, "
+                    f"levelling '{surface.levelling}'{cutoff}\n"
+                    f"Sa {rough['Sa'] * 1e9:.3g} nm, Sq {rough['Sq'] * 1e9:.3g} nm, "
+                    f"Ssk {rough['Ssk']:.3g}, Sku {rough['Sku']:.3g}, Sdq {rough['Sdq']:.3g}, "
+                    f"rms curvature {rough['rms_curvature']:.3g} 1/m")
     return figure
 
 
@@ -234,8 +250,11 @@ def _draw_map(figure, axes, surface):
     image = axes.imshow(shown.T, origin="lower", cmap=colours, interpolation="nearest",
                         extent=_cell_extent(shown.shape, stride, (dx, dy)), aspect="equal",
                         vmin=low, vmax=high)
-    figure.colorbar(image, ax=axes, label="height above the mean plane [nm]", shrink=0.9,
-                    extend="both")
+    # A map wider than tall gets its colour bar below it, not beside it (much taller than it).
+    wide = nx * dx > ny * dy
+    figure.colorbar(image, ax=axes, label="height above the mean plane [nm]",
+                    shrink=0.8 if wide else 0.9, extend="both",
+                    location="bottom" if wide else "right")
     i, j = surface.summit_index
     marked = np.argsort(surface.summit_heights)[::-1][:MARKED_SUMMITS]
     few = marked.size < 300
@@ -244,6 +263,11 @@ def _draw_map(figure, axes, surface):
                  linewidths=0.5 if few else 0.2)
     what = (f"all {surface.summits:,} summits marked" if marked.size == surface.summits
             else f"the {marked.size:,} highest of {surface.summits:,} summits marked")
+    if surface.outliers and not surface.outliers_removed:
+        oi, oj = surface.outlier_index
+        axes.scatter(oi * dx * 1e6, oj * dy * 1e6, s=30.0, marker="x", c="magenta",
+                     linewidths=1.2, label=f"{surface.outliers:,} outliers (left in)")
+        axes.legend(loc="upper right", fontsize=8)
     grey = ", grey: missing" if surface.valid_points < nx * ny else ""
     axes.set(xlabel="x [µm]", ylabel="y [µm]", title=f"Levelled map ({what}{grey})")
 
@@ -358,3 +382,60 @@ def _draw_virgin(axes, surface, effective_modulus):
                    f"μs = {VIRGIN_STATIC_COEFFICIENT:g}")
     axes.legend(loc="lower right", fontsize=8)
     axes.grid(alpha=0.3)
+
+
+def _draw_psd(axes, surface):
+    from polind.topography import power_spectrum
+
+    q, C, filled = power_spectrum(surface.height_map)
+    wavelength = 2.0 * np.pi / q * 1e6
+    note = "\n(missing points filled, harmonic)" if filled else ""
+    axes.loglog(wavelength, C, color="#1f77b4", lw=1.8,
+                label=f"areal PSD, radially averaged{note}")
+    nyquist = 2.0 * max(surface.pixel_size) * 1e6
+    axes.axvline(nyquist, color="black", ls=":", lw=1.2,
+                 label=f"2 max(dx, dy) = {nyquist:.3g} µm")
+    if surface.short_cutoff is not None:
+        axes.axvline(surface.short_cutoff * 1e6, color="#d62728", ls="--", lw=1.4,
+                     label=f"low-pass cut-off {surface.short_cutoff * 1e6:.3g} µm")
+    axes.invert_xaxis()
+    axes.set(xlabel="wavelength 2π/q [µm] (short wavelengths to the right)",
+             ylabel="C(q) [m⁴]",
+             title="Power spectral density (SurfaceTopography, Hann window)")
+    axes.legend(loc="lower left", fontsize=8)
+    axes.grid(alpha=0.3, which="both")
+
+
+def _draw_cutoff_study(axes, surface):
+    rows = surface.cutoff_study
+    filtered = [row for row in rows if row["short_cutoff"] is not None and row["summits"]]
+    unfiltered = rows[0]
+    cutoffs = np.array([row["short_cutoff"] for row in filtered]) * 1e6
+    counts = np.array([row["summits"] for row in filtered], dtype=float)
+    radii = np.array([row["summit_radius_mean"] for row in filtered]) * 1e6
+    white = surface.summit_candidates / 9.0
+    axes.loglog(cutoffs, counts, "o-", color="#1f77b4", lw=1.8, label="summits")
+    axes.axhline(unfiltered["summits"], color="#1f77b4", ls=":", lw=1.2,
+                 label=f"summits without low-pass ({unfiltered['summits']:,})")
+    axes.axhline(white, color="black", ls="--", lw=1.0,
+                 label=f"white-noise rate, 1 in 9 points ({white:,.0f})")
+    axes.set(xlabel="low-pass cut-off short_cutoff [µm]", ylabel="summits",
+             title="Cut-off study: summits and radius against short_cutoff")
+    axes.grid(alpha=0.3, which="both")
+    right = axes.twinx()
+    right.loglog(cutoffs, radii, "s-", color="#d62728", lw=1.8, label="1 / mean κ")
+    if unfiltered["summit_radius_mean"] is not None:
+        right.axhline(unfiltered["summit_radius_mean"] * 1e6, color="#d62728", ls=":", lw=1.2,
+                      label="1 / mean κ without low-pass")
+    right.set_ylabel("1 / mean κ [µm]", color="#d62728")
+    from matplotlib.ticker import FixedLocator, NullFormatter, NullLocator
+
+    # One labelled tick per cut-off studied (log axes would crowd minor labels).
+    axes.xaxis.set_major_locator(FixedLocator(cutoffs))
+    axes.xaxis.set_minor_locator(NullLocator())
+    axes.xaxis.set_minor_formatter(NullFormatter())
+    axes.set_xticklabels([f"{value:.3g}" for value in cutoffs])
+    handles = axes.get_legend_handles_labels()
+    more = right.get_legend_handles_labels()
+    axes.legend(handles[0] + more[0], handles[1] + more[1], loc="upper center",
+                bbox_to_anchor=(0.5, -0.13), ncol=2, fontsize=8)

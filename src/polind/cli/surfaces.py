@@ -84,23 +84,46 @@ def _validity_lines(figures: dict, plasticity) -> list[str]:
               help="Print one JSON object instead of the readable summary.")
 @click.option("--plot", "plot_path", default=None, type=file_path(), metavar="PNG",
               help="Also write a PNG: the levelled map and its summits, summit heights and "
-                   "radii, N(d) beside the Greenwood-Williamson equivalent.")
+                   "radii, N(d) beside the Greenwood-Williamson equivalent, the presliding "
+                   "virgin curve, the power spectral density and the cut-off study.")
 @click.option("--pixel-size", "pixel_size", nargs=2, type=float, default=None,
               metavar="DX DY", help="Pixel size [m] of a .npy/.csv grid (heights in metres).")
 @click.option("--short-cutoff", "short_cutoff", type=float, default=None, metavar="L",
               help="Gaussian low-pass (ISO 16610-61) cut-off wavelength [m] applied before "
-                   "summit finding.")
-def topography(map_path, as_json, plot_path, pixel_size, short_cutoff):
-    """A measured height map: levelling, summits and their radii, the GW equivalent.
+                   "summit finding; at least twice the smaller pixel spacing.")
+@click.option("--remove-outliers", "remove_outliers", is_flag=True,
+              help="Mark the outliers (points more than 8 robust standard deviations from the "
+                   "median height) missing; without it they are only counted.")
+@click.option("--channel", "channel", default=None, metavar="NAME",
+              help="The channel of a file with several (an AFM's Height, Amplitude, ...); "
+                   "default: the file's default height channel.")
+@click.option("--levelling", "levelling", type=click.Choice(["plane", "lines"]),
+              default="plane", show_default=True,
+              help="'lines': level each scan line (along x) on its own, for scanning-probe "
+                   "(AFM, STM) maps; 'plane': the least-squares plane.")
+@click.option("--hardness", "hardness", type=float, default=None, metavar="H",
+              help="Hardness [Pa] of the softer body: with --effective-modulus, adds the "
+                   "plasticity index of the map's Greenwood-Williamson equivalent.")
+@click.option("--effective-modulus", "effective_modulus", type=float, default=None,
+              metavar="E", help="Effective modulus E* [Pa] of the pair, for the plasticity "
+                                "index and the figure (default there: steel on steel).")
+def topography(map_path, as_json, plot_path, pixel_size, short_cutoff, remove_outliers, channel,
+               levelling, hardness, effective_modulus):
+    """A measured height map: conditioning, standard roughness, summits and their radii.
 
     FILE is any height map SurfaceTopography reads (x3p, sur, plu, opd, datx,
     di, ...; units from the file), or a .npy / .csv grid h[i, j] (i along x)
-    in metres with --pixel-size.  With --json: an object with keys grid,
+    in metres with --pixel-size.  Outliers (spikes) are counted, and marked
+    missing with --remove-outliers.  With --json: an object with keys grid,
     pixel_size, valid_points, rms_height, summits, summit_density,
-    summit_radius_mean, summit_radius_median, summit_height_std and
-    greenwood_williamson ({asperity_density, asperity_radius, height_std}).
+    summit_radius_mean, summit_radius_median, summit_height_std,
+    greenwood_williamson ({asperity_density, asperity_radius, height_std}),
+    roughness ({Sa, Sq, Ssk, Sku, Sdq, rms_curvature}), channel, outliers and
+    cutoff_study (a list of {short_cutoff, summits, summit_radius_mean});
+    with --hardness and --effective-modulus also plasticity_index.
     """
     import json
+    import warnings
 
     from polind import io
     from polind import topography as measured
@@ -110,32 +133,68 @@ def topography(map_path, as_json, plot_path, pixel_size, short_cutoff):
     if to_stdout and as_json:
         raise InputError("--plot -: the PNG and --json would both go to standard output; "
                          "expected a file name for --plot.")
+    if hardness is not None and effective_modulus is None:
+        raise InputError("--hardness: the plasticity index needs the pair's effective modulus "
+                         "too; expected --effective-modulus E* [Pa] with it.")
     with blame(map_path):
-        surface = measured.load_measured_surface(map_path, pixel_size=pixel_size,
-                                                 short_cutoff=short_cutoff)
+        surface = measured.load_measured_surface(
+            map_path, pixel_size=pixel_size, short_cutoff=short_cutoff,
+            remove_outliers=remove_outliers, levelling=levelling, channel=channel)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")        # the map's warnings were issued above
+            summary = surface.summary(effective_modulus=effective_modulus if hardness else None,
+                                      hardness=hardness)
     if plot_path is not None:
         from polind.topography_figure import figure_png
 
-        io.atomic_write_bytes(plot_path, figure_png(surface))
-    summary = surface.summary()
+        io.atomic_write_bytes(plot_path, figure_png(surface, effective_modulus))
     if as_json:
         click.echo(json.dumps(summary, allow_nan=False))
         return
+    click.echo("\n".join(_topography_text(map_path, summary, plot_path, to_stdout)),
+               err=to_stdout)
+
+
+def _topography_text(map_path, summary, plot_path, to_stdout) -> list:
+    """The readable summary of ``polind topography``, line by line."""
     (nx, ny), (dx, dy) = summary["grid"], summary["pixel_size"]
     gw = summary["greenwood_williamson"]
     cutoff = summary["short_cutoff"]
+    rough = summary["roughness"]
+    removed = ("" if not summary["outliers"] else
+               " (marked missing)" if summary["outliers_removed"] else " (left in)")
     lines = [
         f"Height map {map_path}: {nx} x {ny} points, pixel {dx:.6g} x {dy:.6g} m",
+        f"  channel            {summary['channel'] or '(a grid: the heights)'}",
         f"  valid points       {summary['valid_points']} of {nx * ny} "
         f"(nominal area {summary['nominal_area']:.6g} m^2)",
+        f"  outliers           {summary['outliers']}{removed}",
+        f"  levelling          {summary['levelling']}",
         f"  low-pass cut-off   {'none' if cutoff is None else f'{cutoff:.6g} m'}",
         f"  rms height         {summary['rms_height']:.6g} m (after levelling)",
+        "",
+        "Standard roughness (ISO 25178-2; Sq, Sdq and the curvature by SurfaceTopography):",
+        f"  Sa {rough['Sa']:.6g} m   Sq {rough['Sq']:.6g} m   Ssk {rough['Ssk']:.4g}   "
+        f"Sku {rough['Sku']:.4g}",
+        f"  Sdq (rms slope) {rough['Sdq']:.6g}   rms curvature {rough['rms_curvature']:.6g} 1/m",
+        "",
         f"  summits            {summary['summits']} "
         f"(density {summary['summit_density']:.6g} 1/m^2)",
         f"  summit radius      {summary['summit_radius_mean']:.6g} m (1 / mean curvature), "
         f"median {summary['summit_radius_median']:.6g} m",
         f"  summit heights     mean {summary['summit_height_mean']:.6g} m, "
         f"std {summary['summit_height_std']:.6g} m (above the mean plane)",
+    ]
+    if "plasticity_index" in summary:
+        lines.append(f"  plasticity index   {summary['plasticity_index']:.4g} "
+                     f"(below 0.6 mostly elastic, above 1 mostly plastic)")
+    lines += ["", "Cut-off study (the low-pass cut-off against summits and 1 / mean curvature):",
+              f"  {'short_cutoff [m]':>16}  {'summits':>8}  {'radius [m]':>12}"]
+    for row in summary["cutoff_study"]:
+        shown = "none" if row["short_cutoff"] is None else f"{row['short_cutoff']:.4g}"
+        radius = "-" if row["summit_radius_mean"] is None else f"{row['summit_radius_mean']:.4g}"
+        lines.append(f"  {shown:>16}  {row['summits']:>8}  {radius:>12}")
+    lines += [
         "",
         "The Greenwood-Williamson equivalent, as keys of [model.surface]:",
         f"  asperity_density = {gw['asperity_density']:.6g}",
@@ -144,4 +203,4 @@ def topography(map_path, as_json, plot_path, pixel_size, short_cutoff):
     ]
     if plot_path is not None and not to_stdout:
         lines += ["", f"wrote {plot_path}"]
-    click.echo("\n".join(lines), err=to_stdout)
+    return lines

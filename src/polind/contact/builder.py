@@ -17,6 +17,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 from polind.contact._checks import positive_number
+from polind.contact.ball import ball_contact_area
 from polind.contact.elements import ElementTable, element_table
 from polind.contact.materials import effective_moduli
 from polind.contact.plasticity import HARDNESS_PER_YIELD_STRENGTH, Plasticity
@@ -213,15 +214,19 @@ def measured_surface(surface_keys: Mapping, E_star, G_star, base_dir=None):
     """The direct surface of a ``[model.surface]`` table with a ``topography`` (a height map).
 
     Reads the map (:func:`polind.topography.load_measured_surface`, with the
-    table's ``pixel_size`` and ``short_cutoff``), and sums over its summits
-    with their own radii, each standing for ``nominal_area / A_map`` summits
+    table's ``pixel_size``, ``short_cutoff``, ``remove_outliers``,
+    ``levelling`` and ``channel``), and sums over its summits with their own
+    radii, each standing for ``nominal_area / A_map`` summits
     (:meth:`~polind.contact.surface.DirectSurface.from_topography`).
     """
     from polind.topography import load_measured_surface
 
     path = _file_name(surface_keys["topography"], "surface.topography", base_dir)
     measured = load_measured_surface(path, surface_keys.get("pixel_size"),
-                                     surface_keys.get("short_cutoff"))
+                                     surface_keys.get("short_cutoff"),
+                                     remove_outliers=surface_keys.get("remove_outliers", False),
+                                     levelling=surface_keys.get("levelling", "plane"),
+                                     channel=surface_keys.get("channel"))
     return DirectSurface.from_topography(measured, E_star, G_star,
                                          nominal_area=surface_keys.get("nominal_area"))
 
@@ -243,6 +248,15 @@ def build_surface(params: Mapping, base_dir=None):
     E1, E2 = _pair(materials, "youngs_modulus")
     nu1, nu2 = _pair(materials, "poisson_ratio")
     E_star, G_star = effective_moduli(E1, nu1, E2, nu2)
+    if surface_keys.get("ball_radius") is not None:
+        # Ball on flat: the nominal area is the ball's Hertz contact at the normal load.
+        if surface_keys.get("nominal_area") is not None:
+            raise InputError("A pol-ind surface takes its nominal area from 'surface.nominal_area' "
+                             "or 'surface.ball_radius' (the Hertz contact of the ball), not both. "
+                             "Remove one.")
+        surface_keys["nominal_area"] = ball_contact_area(_number(params, "normal_load"),
+                                                         surface_keys["ball_radius"], E_star)
+
     surface = _hertzian_surface(params, surface_keys, discretisation, E_star, G_star, base_dir)
     plasticity = plasticity_of(materials, nu1)
     return surface if plasticity is None else surface.with_plasticity(plasticity)
@@ -268,13 +282,13 @@ def plasticity_of(materials: Mapping, poisson) -> Plasticity | None:
 
 def _hertzian_surface(params, surface_keys, discretisation, E_star, G_star, base_dir):
     """The surface of :func:`build_surface` with Hertzian asperities."""
-    topography = (params.get("surface") or {}).get("topography")
+    topography = surface_keys.get("topography")
     summation = discretisation.get("summation") or ("direct" if topography else "statistical")
     if topography is not None:
         if summation != "direct":
             raise InputError("The 'surface.topography' of pol-ind needs summation = \"direct\". "
                              "Got \"statistical\".")
-        return measured_surface(params["surface"], E_star, G_star, base_dir)
+        return measured_surface(surface_keys, E_star, G_star, base_dir)
     heights_file = discretisation.get("heights_file")
     if summation == "statistical":
         if heights_file is not None:

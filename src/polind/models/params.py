@@ -29,7 +29,8 @@ class Param:
     """One key of a model table.
 
     kind: ``"float"``, ``"int"``, ``"list"`` (non-empty list of floats),
-    ``"pair"`` (a list of exactly two floats), ``"str"`` or ``"path"``.
+    ``"pair"`` (a list of exactly two floats), ``"str"``, ``"path"`` or
+    ``"bool"`` (``true`` or ``false``).
     """
 
     key: str
@@ -60,6 +61,10 @@ class Table:
 
 
 def _validate_value(ctx, param, value):
+    if param.kind == "bool":
+        if not isinstance(value, (bool, np.bool_)):
+            ctx.fail(param.key, "true or false", value)
+        return bool(value)
     if param.kind in ("str", "path"):
         if not isinstance(value, str) or not value:
             ctx.fail(param.key, "a non-empty string", value)

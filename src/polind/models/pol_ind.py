@@ -186,7 +186,11 @@ class PolInd(FrictionModel):
             if discretisation.get("heights_file"):
                 raise InputError("A pol-ind model takes its summits from a 'surface.topography' "
                                  "or a 'discretisation.heights_file', not both. Remove one.")
-        else:
+        if "ball_radius" in surface and "nominal_area" in surface:
+            raise InputError("A pol-ind surface takes its nominal area from 'surface.nominal_area' "
+                             "or 'surface.ball_radius' (the Hertz contact of the ball), not both. "
+                             "Remove one.")
+        if not mapped:
             for key in MAP_KEYS:
                 if key in surface:
                     raise InputError(f"The 'surface.{key}' parameter of pol-ind only goes with a "
@@ -209,11 +213,14 @@ class PolInd(FrictionModel):
         if heights_file and discretisation["summation"] != "direct":
             raise InputError("The 'discretisation.heights_file' parameter of pol-ind needs "
                              "summation = \"direct\". Got \"statistical\" instead.")
-        for key in SAMPLED_SURFACE_KEYS:
+        ball = "ball_radius" in surface
+        for key in SAMPLED_SURFACE_KEYS + ("ball_radius",):
             if heights_file and key in surface:
                 raise InputError(f"The 'surface.{key}' parameter of pol-ind is not used with "
                                  f"a 'discretisation.heights_file': the file gives the "
                                  f"summits themselves. Remove it.")
+            if key == "ball_radius" or (key == "nominal_area" and ball):
+                continue
             if not heights_file and key not in surface:
                 raise InputError(f"Missing key 'surface.{key}' for a pol-ind model (needed "
                                  f"without a 'discretisation.heights_file').")
@@ -235,8 +242,11 @@ class PolInd(FrictionModel):
         if load not in self._contacts:
             if len(self._contacts) >= 8:
                 self._contacts.pop(next(iter(self._contacts)))
-            contact = build_contact({**self._params, "normal_load": load},
-                                    surface=surface_of(self._params))
+            loaded = {**self._params, "normal_load": load}
+            # With a ball radius the nominal area (so the surface) depends on the load.
+            surface = surface_of(loaded if self._params["surface"].get("ball_radius")
+                                 else self._params)
+            contact = build_contact(loaded, surface=surface)
             table = contact.elements
             for name, values in (("stiffness", table.stiffness), ("weight", table.weight)):
                 if not np.all(np.isfinite(values)):
@@ -283,9 +293,13 @@ class PolInd(FrictionModel):
         if self._params["surface"].get("topography") is None:
             raise InputError("statistical_equivalent() needs a pol-ind model with a "
                              "'surface.topography' (a measured height map). Got none.")
-        gw = surface_of(self._params).greenwood_williamson
+        gw = dict(surface_of(self._params).greenwood_williamson)
         params = self.params
-        params["surface"] = dict(gw)
+        ball_radius = params["surface"].get("ball_radius")
+        if ball_radius is not None:        # the same ball: the area follows the load
+            gw.pop("nominal_area")
+            gw["ball_radius"] = ball_radius
+        params["surface"] = gw
         discretisation = params["discretisation"]
         discretisation["summation"] = "statistical"
         discretisation.pop("heights_file", None)
@@ -530,6 +544,12 @@ class PolInd(FrictionModel):
         """Loads the run may use: at most the state's table load, within the surface's range."""
         table_load = float(state.variables["table_load"][0])
         peak = float(np.max(loads))
+        other = np.abs(np.asarray(loads) - table_load) > 1e-12 * table_load
+        if self._params["surface"].get("ball_radius") and np.any(other):
+            raise InputError(f"A 'normal_load' that varies ({float(loads[np.argmax(other)])!r} N, "
+                             f"the contact built at {table_load!r} N) is not supported with "
+                             f"'surface.ball_radius' of pol-ind: a run keeps the ball's Hertz "
+                             f"area at one load. Expected a constant load, or 'nominal_area'.")
         if peak > table_load * (1.0 + 1e-12):
             raise InputError(f"The 'normal_load' reaches {peak!r} N but the state's element "
                              f"table was built for at most {table_load!r} N; start the first "

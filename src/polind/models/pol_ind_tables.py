@@ -25,7 +25,7 @@ SAMPLED_SURFACE_KEYS = ("asperity_density", "nominal_area", "height_std")
 # The keys a measured height map replaces (it gives every summit's height and radius).
 MAPPED_SURFACE_KEYS = ("asperity_density", "asperity_radius", "height_std")
 # The keys that only go with a height map.
-MAP_KEYS = ("pixel_size", "short_cutoff")
+MAP_KEYS = ("pixel_size", "short_cutoff", "remove_outliers", "levelling", "channel")
 SURFACE_TABLE = Table("surface", (
     Param("asperity_density", unit="1/m^2", default=None,
           description=(r"Summit density :math:`\eta`, summits per unit nominal area. Required "
@@ -50,7 +50,20 @@ SURFACE_TABLE = Table("surface", (
                        r"height map (other formats carry their own).")),
     Param("short_cutoff", unit="m", default=None, fittable=False,
           description=("Optional Gaussian low-pass (ISO 16610-61) of the height map before "
-                       "the summits are found: the wavelength passed at 50 %.")),
+                       "the summits are found: the wavelength passed at 50 %; at least twice "
+                       "the smaller pixel spacing.")),
+    Param("remove_outliers", kind="bool", default=None, fittable=False,
+          description=("Mark the map's outliers (spikes) missing; default ``false``: counted "
+                       "and warned about (:ref:`guide-measured-surfaces-conditioning`).")),
+    Param("levelling", kind="str", default=None, choices=("plane", "lines"), fittable=False,
+          description=('The map\'s levelling: ``"plane"`` (default) or ``"lines"``, line by '
+                       'line for AFM/STM maps (:ref:`guide-measured-surfaces-conditioning`).')),
+    Param("channel", kind="str", default=None, fittable=False,
+          description="The height channel of a map file with several, by name."),
+    Param("ball_radius", unit="m", default=None, fittable=False,
+          description=("Ball on flat: the ball's radius; the nominal area is its Hertz contact "
+                       "at the (constant) normal load (:ref:`guide-measured-surfaces-ball`)."),
+          symbol="R_b"),
 ), description="The rough surface (:ref:`guide-pol-ind-surface`).")
 MATERIALS_TABLE = Table("materials", (
     Param("youngs_modulus", kind="pair", unit="Pa",
@@ -116,6 +129,8 @@ def _hertzian_surface_of(params):
     from polind.models.pol_ind import PolInd
 
     parts = {key: params.get(key) for key in ("surface", "materials", "discretisation")}
+    if (params.get("surface") or {}).get("ball_radius") is not None:
+        parts["normal_load"] = params["normal_load"]      # its nominal area follows the load
     for _, name, path in PolInd.files_in(params):
         if path:
             try:

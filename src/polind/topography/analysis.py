@@ -1,9 +1,11 @@
 """A measured surface reduced to its summits, and its Greenwood–Williamson equivalent.
 
-:func:`analyse` runs the steps of :mod:`polind.topography.summits` on a
-:class:`~polind.topography.heightmap.HeightMap` (levelling, the optional
-low-pass, summits, curvatures) and returns a :class:`MeasuredSurface`: the
-summit heights and radii that direct summation sums over
+:func:`analyse` conditions a :class:`~polind.topography.heightmap.HeightMap`
+(levelling by plane or line by line, the outliers of
+:mod:`polind.topography.outliers` found and, on request, marked missing),
+runs the steps of :mod:`polind.topography.summits` (the optional low-pass,
+summits, curvatures) and returns a :class:`MeasuredSurface`: the summit
+heights and radii that direct summation sums over
 (:ref:`guide-measured-surfaces`), and the statistics of the map:
 
 - summit density ``eta = summits / (valid_points dx dy)``;
@@ -11,11 +13,18 @@ summit heights and radii that direct summation sums over
   ``R = 1 / mean(kappa)`` and ``sigma_a`` = the standard deviation of the
   summit heights;
 - the map's nominal (projected) area ``A_map = valid_points dx dy``, so that
-  ``eta A_map`` is the number of summits.
+  ``eta A_map`` is the number of summits;
+- the standard roughness of :mod:`polind.topography.roughness`, a cut-off
+  study (:func:`cutoff_study`: summits and ``1 / mean(kappa)`` against the
+  low-pass cut-off), the plasticity index given a hardness, and warnings
+  (outliers left in, summits near the white-noise rate).
 """
 
 from __future__ import annotations
 
+import functools
+import math
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -23,9 +32,22 @@ import numpy as np
 from polind.errors import InputError
 from polind.validation import check_number
 from polind.topography.heightmap import HeightMap, read_height_map
-from polind.topography.summits import find_summits, level, low_pass, summit_curvatures
+from polind.topography.outliers import OUTLIER_THRESHOLD, find_outliers
+from polind.topography.roughness import standard_roughness
+from polind.topography.summits import (check_levelling, find_summits, level_map, low_pass,
+                                       summit_candidates, summit_curvatures)
 
-__all__ = ["MeasuredSurface", "analyse", "load_measured_surface"]
+__all__ = ["MeasuredSurface", "analyse", "check_cutoff", "cutoff_study", "default_cutoffs",
+           "load_measured_surface", "WHITE_NOISE_RATE", "NEAR_WHITE_NOISE"]
+
+#: Summits per candidate point of a white-noise map (8-neighbour rule: 1 in 9).
+WHITE_NOISE_RATE = 1.0 / 9.0
+#: A summit density at least this share of the white-noise rate warns: the summits are
+#: then at the pixel scale (a Gaussian surface gets there at a correlation length of
+#: about 1.5 pixels), set by the sampling or the noise rather than by the asperities.
+NEAR_WHITE_NOISE = 0.5
+#: Most filtered rows of the default cut-off study.
+STUDY_ROWS = 7
 
 
 @dataclass(frozen=True)
@@ -45,6 +67,16 @@ class MeasuredSurface:
         Summit mean curvatures ``kappa`` [1/m], positive.
     short_cutoff : float or None
         The low-pass cut-off wavelength [m] applied, if any.
+    levelled_map : HeightMap or None
+        The conditioned map before the low-pass (levelled, outliers missing
+        if removed); ``None``: the same as ``height_map`` (no cut-off).
+    outlier_index : tuple of numpy.ndarray
+        ``(i, j)``, the grid indices of the outliers found
+        (:mod:`polind.topography.outliers`), removed or not.
+    outliers_removed : bool
+        Whether the outliers were marked missing.
+    levelling : {"plane", "lines"}
+        How the map was levelled.
     """
 
     height_map: HeightMap
@@ -52,6 +84,11 @@ class MeasuredSurface:
     summit_heights: np.ndarray
     summit_curvatures: np.ndarray
     short_cutoff: float | None = None
+    levelled_map: HeightMap | None = None
+    outlier_index: tuple[np.ndarray, np.ndarray] = (np.empty(0, dtype=np.intp),
+                                                    np.empty(0, dtype=np.intp))
+    outliers_removed: bool = False
+    levelling: str = "plane"
 
     # --- the map ---------------------------------------------------------------------------
 
@@ -69,6 +106,11 @@ class MeasuredSurface:
     def source(self) -> str:
         """What the map came from (a file name)."""
         return self.height_map.source
+
+    @property
+    def channel(self) -> str | None:
+        """The channel of the file the heights were read from (``None`` for a grid)."""
+        return self.height_map.channel
 
     @property
     def grid(self) -> tuple[int, int]:
@@ -89,6 +131,23 @@ class MeasuredSurface:
     def rms_height(self) -> float:
         """Root mean square of the analysed heights over the valid points [m]."""
         return float(np.sqrt(np.nanmean(np.square(self.heights))))
+
+    @property
+    def outliers(self) -> int:
+        """Number of outliers found (removed or not)."""
+        return int(self.outlier_index[0].size)
+
+    @functools.cached_property
+    def roughness(self) -> dict:
+        """``{Sa, Sq, Ssk, Sku, Sdq, rms_curvature}`` of the analysed map.
+
+        :func:`polind.topography.roughness.standard_roughness` of
+        ``height_map`` (levelled, outliers missing if removed, low-passed
+        with a cut-off): ``Sq``, ``Sdq`` (SurfaceTopography's
+        ``rms_gradient``) and ``rms_curvature`` computed by
+        SurfaceTopography.
+        """
+        return standard_roughness(self.height_map)
 
     # --- the summits -----------------------------------------------------------------------
 
@@ -127,6 +186,72 @@ class MeasuredSurface:
         """Standard deviation of the summit heights [m] (population form, ``ddof = 0``)."""
         return float(np.std(self.summit_heights))
 
+    @functools.cached_property
+    def summit_candidates(self) -> int:
+        """Points that could be summits: interior, valid, with 8 valid neighbours."""
+        return summit_candidates(self.heights)
+
+    @property
+    def white_noise_share(self) -> float:
+        """``summits / summit_candidates`` over the white-noise rate 1/9 (1: white noise)."""
+        return self.summits / max(self.summit_candidates, 1) / WHITE_NOISE_RATE
+
+    @functools.cached_property
+    def cutoff_study(self) -> list:
+        """The cut-off study (the ``--json`` table): :func:`~polind.topography.analysis.cutoff_study`.
+
+        Over :func:`~polind.topography.analysis.default_cutoffs`.
+        """
+        return cutoff_study(self)
+
+    def plasticity_index(self, effective_modulus, hardness) -> float:
+        """``psi = (E* / H) sqrt(sigma_a / R)`` of the Greenwood–Williamson equivalent.
+
+        Greenwood and Williamson (1966), with ``sigma_a`` the standard
+        deviation of the summit heights and ``R = 1 / mean(kappa)``: below
+        0.6 the contact is mostly elastic, above 1 mostly plastic.
+
+        Parameters
+        ----------
+        effective_modulus : float
+            ``E*`` [Pa].
+        hardness : float
+            ``H`` [Pa] of the softer body.
+
+        Returns
+        -------
+        float
+        """
+        E_star = check_number("topography", "effective_modulus", effective_modulus, "positive")
+        H = check_number("topography", "hardness", hardness, "positive")
+        return float(E_star / H * math.sqrt(self.summit_height_std / self.summit_radius_mean))
+
+    @property
+    def warnings(self) -> tuple:
+        """What the user should know about the map, as sentences (empty when all is well).
+
+        Outliers found and left in; a summit density of at least
+        :data:`~polind.topography.analysis.NEAR_WHITE_NOISE` of the white-noise rate.
+        """
+        notes = []
+        if self.outliers and not self.outliers_removed:
+            notes.append(
+                f"{self.source}: {self.outliers} point(s) lie more than {OUTLIER_THRESHOLD:g} "
+                f"robust standard deviations from the median height (outliers, spikes) and are "
+                f"left in: they inflate the rms height, the slopes and the summits; "
+                f"--remove-outliers ([model.surface] remove_outliers = true) marks them missing, "
+                f"unless they are real (deep valleys).")
+        share = self.white_noise_share
+        if share >= NEAR_WHITE_NOISE:
+            cutoff = "" if self.short_cutoff is None else \
+                f" at the cut-off {self.short_cutoff:.3g} m"
+            notes.append(
+                f"{self.source}: {self.summits} summits are {100 * share:.0f} % of the white-noise "
+                f"rate (1 in 9 of the points that can be summits){cutoff}: the summits are at the "
+                f"pixel scale, set by noise or sampling rather than by the asperities; choose a "
+                f"short_cutoff of a few pixels (see the cut-off study).")
+        return tuple(notes)
+
     def greenwood_williamson(self) -> dict:
         """The statistical surface equivalent to the map, as ``[model.surface]`` keys.
 
@@ -137,17 +262,21 @@ class MeasuredSurface:
                 "asperity_radius": self.summit_radius_mean,
                 "height_std": self.summit_height_std}
 
-    def summary(self) -> dict:
-        """The keys of ``polind topography --json`` (plain floats and ints).
+    def summary(self, effective_modulus=None, hardness=None) -> dict:
+        """The keys of ``polind topography --json`` (plain floats, ints, lists).
 
         ``grid``, ``pixel_size``, ``valid_points``, ``rms_height``,
         ``summits``, ``summit_density``, ``summit_radius_mean``,
         ``summit_radius_median``, ``summit_height_std``,
-        ``greenwood_williamson``; also ``nominal_area`` (m^2),
-        ``summit_height_mean`` (m, above the mean plane) and
-        ``short_cutoff`` (m, or None).
+        ``greenwood_williamson``, ``roughness`` (:attr:`roughness`),
+        ``channel``, ``outliers`` and ``cutoff_study`` (:attr:`cutoff_study`);
+        also ``nominal_area`` (m^2), ``summit_height_mean`` (m, above the
+        mean plane), ``short_cutoff`` (m, or None), ``levelling``,
+        ``outliers_removed`` and ``warnings`` (:attr:`warnings`).  With both
+        ``effective_modulus`` ``E*`` [Pa] and ``hardness`` ``H`` [Pa]:
+        ``plasticity_index`` (:meth:`plasticity_index`).
         """
-        return {
+        summary = {
             "grid": list(self.grid),
             "pixel_size": [float(size) for size in self.pixel_size],
             "valid_points": self.valid_points,
@@ -162,11 +291,36 @@ class MeasuredSurface:
             "summit_height_std": self.summit_height_std,
             "greenwood_williamson": {key: float(value) for key, value
                                      in self.greenwood_williamson().items()},
+            "roughness": dict(self.roughness),
+            "channel": self.channel,
+            "levelling": self.levelling,
+            "outliers": self.outliers,
+            "outliers_removed": self.outliers_removed,
+            "cutoff_study": [dict(row) for row in self.cutoff_study],
+            "warnings": list(self.warnings),
         }
+        if effective_modulus is not None or hardness is not None:
+            if effective_modulus is None or hardness is None:
+                missing = "effective_modulus" if effective_modulus is None else "hardness"
+                raise InputError(f"The plasticity index of topography needs both a hardness and "
+                                 f"an effective modulus; expected the '{missing}' too.")
+            summary["plasticity_index"] = self.plasticity_index(effective_modulus, hardness)
+        return summary
 
 
-def analyse(height_map: HeightMap, short_cutoff=None) -> MeasuredSurface:
-    """Level a height map, optionally low-pass it, and find its summits and radii.
+def analyse(height_map: HeightMap, short_cutoff=None, *, remove_outliers=False,
+            levelling="plane", warn=True) -> MeasuredSurface:
+    """Condition a height map, optionally low-pass it, and find its summits and radii.
+
+    The steps (:ref:`guide-measured-surfaces-conditioning`):
+
+    1. the outliers are found (:func:`~polind.topography.outliers.find_outliers`)
+       and, with ``remove_outliers``, marked missing;
+    2. the map is levelled (:func:`~polind.topography.summits.level_map`; with
+       the outliers removed, fitted without them);
+    3. with ``short_cutoff``, the ISO 16610-61 low-pass
+       (:func:`~polind.topography.summits.low_pass`);
+    4. summits and their curvatures.
 
     Parameters
     ----------
@@ -174,7 +328,15 @@ def analyse(height_map: HeightMap, short_cutoff=None) -> MeasuredSurface:
         Heights [m] on a regular grid, ``NaN`` where missing.
     short_cutoff : float, optional
         Cut-off wavelength [m] of the ISO 16610-61 Gaussian low-pass applied
-        after levelling (:func:`~polind.topography.summits.low_pass`).
+        after levelling; at least twice the smaller pixel spacing (the
+        shortest wavelength on the grid).
+    remove_outliers : bool, optional
+        Mark the outliers missing (default: only count them).
+    levelling : {"plane", "lines"}, optional
+        ``"plane"``: the least-squares plane; ``"lines"``: line by line, for
+        scanning-probe maps (:func:`~polind.topography.summits.level_lines`).
+    warn : bool, optional
+        Issue :attr:`MeasuredSurface.warnings` as ``UserWarning`` (default).
 
     Returns
     -------
@@ -183,37 +345,138 @@ def analyse(height_map: HeightMap, short_cutoff=None) -> MeasuredSurface:
     Raises
     ------
     polind.InputError
-        If the mean plane is not determined or the map has no summit; the
-        message names the map's source.
+        If the cut-off is not a number of at least twice the smaller pixel
+        spacing, the levelling is unknown, the mean plane is not determined
+        or the map has no summit; the message names the map's source.
 
     Examples
     --------
     >>> x = (np.arange(9) - 4) * 1e-6
     >>> cap = np.maximum(0.0, 1e-7 - (x[:, None] ** 2 + x[None, :] ** 2) / (2 * 20e-6))
     >>> surface = analyse(HeightMap.from_array(cap, (1e-6, 1e-6)))
-    >>> surface.summits, round(surface.summit_radius_mean / 20e-6, 12)
-    (1, 1.0)
+    >>> surface.summits, round(surface.summit_radius_mean / 20e-6, 12), surface.outliers
+    (1, 1.0, 0)
     """
     dx, dy = height_map.pixel_size
-    heights = level(height_map.heights, (dx, dy), height_map.source)
     if short_cutoff is not None:
-        heights = low_pass(heights, (dx, dy), short_cutoff)
-        short_cutoff = float(short_cutoff)
+        short_cutoff = check_cutoff(short_cutoff, (dx, dy), height_map.source)
+    check_levelling(levelling)
+    if not isinstance(remove_outliers, (bool, np.bool_)):
+        raise InputError(f"The 'remove_outliers' parameter of topography must be true or false. "
+                         f"Got {remove_outliers!r} instead.")
+    heights = level_map(height_map.heights, (dx, dy), levelling, height_map.source)
+    outliers = find_outliers(height_map.heights, (dx, dy), levelling, source=height_map.source,
+                             levelled=heights)
+    if remove_outliers and outliers.any():        # levelled again, without them
+        heights = level_map(np.where(outliers, np.nan, height_map.heights), (dx, dy), levelling,
+                            height_map.source)
+    levelled = HeightMap(heights, (float(dx), float(dy)), height_map.source, height_map.channel)
+    analysed = levelled
+    if short_cutoff is not None:
+        analysed = HeightMap(low_pass(levelled.heights, (dx, dy), short_cutoff),
+                             levelled.pixel_size, levelled.source, levelled.channel)
+    heights = analysed.heights
     i, j = find_summits(heights)
     if i.size == 0:
         raise InputError(f"{height_map.source}: the map has no summit (no interior point with "
                          f"8 valid neighbours is strictly higher than all of them); expected a "
                          f"rough surface.")
-    return MeasuredSurface(
-        height_map=HeightMap(heights, (float(dx), float(dy)), height_map.source),
+    surface = MeasuredSurface(
+        height_map=analysed,
         summit_index=(i, j),
         summit_heights=heights[i, j],
         summit_curvatures=summit_curvatures(heights, (dx, dy), i, j),
         short_cutoff=short_cutoff,
+        levelled_map=None if short_cutoff is None else levelled,
+        outlier_index=tuple(np.nonzero(outliers)),
+        outliers_removed=bool(remove_outliers),
+        levelling=levelling,
     )
+    if warn:
+        for note in surface.warnings:
+            warnings.warn(note, UserWarning, stacklevel=2)
+    return surface
 
 
-def load_measured_surface(path, pixel_size=None, short_cutoff=None) -> MeasuredSurface:
+def check_cutoff(short_cutoff, pixel_size, source="height map") -> float:
+    """A ``short_cutoff`` [m] checked against the grid: at least ``2 min(dx, dy)``.
+
+    Twice the smaller pixel spacing is the shortest wavelength on the grid
+    (the Nyquist wavelength): a low-pass at a shorter one would do nothing.
+
+    Raises
+    ------
+    polind.InputError
+        Naming the parameter (``--short-cutoff``, ``[model.surface]
+        short_cutoff``), the map and the smallest cut-off it allows.
+    """
+    cutoff = check_number("topography", "short_cutoff", short_cutoff, "positive")
+    shortest = 2.0 * min(pixel_size)
+    if cutoff < shortest * (1.0 - 1e-12):
+        raise InputError(f"{source}: the 'short_cutoff' must be at least twice the smaller "
+                         f"pixel spacing, {shortest:.6g} m (the shortest wavelength on the grid; "
+                         f"a shorter cut-off filters nothing). Got {cutoff!r} instead.")
+    return cutoff
+
+
+def default_cutoffs(pixel_size, grid) -> list:
+    """The cut-offs of the default :func:`cutoff_study` [m].
+
+    ``2 min(dx, dy)`` (the shortest allowed), doubling, at most
+    :data:`STUDY_ROWS` values and none longer than an eighth of the map's
+    shorter side (beyond it the map holds too few wavelengths for summits).
+
+    Examples
+    --------
+    >>> [round(lc * 1e6, 3) for lc in default_cutoffs((1e-6, 2e-6), (100, 40))]
+    [2.0, 4.0, 8.0]
+    """
+    shortest = 2.0 * min(pixel_size)
+    longest = min(n * size for n, size in zip(grid, pixel_size)) / 8.0
+    return [shortest * 2.0**k for k in range(STUDY_ROWS) if shortest * 2.0**k <= longest]
+
+
+def cutoff_study(surface: MeasuredSurface, cutoffs=None) -> list:
+    """Summits and ``1 / mean(kappa)`` of a map against the low-pass cut-off.
+
+    The conditioned map of ``surface`` (levelled, outliers as analysed,
+    before any low-pass) is low-passed at each cut-off and its summits
+    found again: how many there are, and their Greenwood–Williamson radius,
+    depend on the shortest wavelength kept, and a study shows where they
+    settle or keep changing (:ref:`guide-measured-surfaces-cutoff`).
+
+    Parameters
+    ----------
+    surface : MeasuredSurface
+    cutoffs : sequence of float, optional
+        Cut-off wavelengths [m], each at least ``2 min(dx, dy)``; default
+        :func:`~polind.topography.analysis.default_cutoffs`.
+
+    Returns
+    -------
+    list of dict
+        One row per cut-off, the unfiltered map first (``short_cutoff``
+        None): ``short_cutoff`` [m], ``summits`` and ``summit_radius_mean``
+        [m] (``None`` without a summit).
+    """
+    levelled = surface.levelled_map or surface.height_map
+    if cutoffs is None:
+        cutoffs = default_cutoffs(levelled.pixel_size, levelled.grid)
+    rows = []
+    for cutoff in [None, *cutoffs]:
+        heights = levelled.heights
+        if cutoff is not None:
+            cutoff = check_cutoff(cutoff, levelled.pixel_size, levelled.source)
+            heights = low_pass(heights, levelled.pixel_size, cutoff)
+        i, j = find_summits(heights)
+        kappa = summit_curvatures(heights, levelled.pixel_size, i, j)
+        rows.append({"short_cutoff": cutoff, "summits": int(i.size),
+                     "summit_radius_mean": float(1.0 / np.mean(kappa)) if i.size else None})
+    return rows
+
+
+def load_measured_surface(path, pixel_size=None, short_cutoff=None, *, remove_outliers=False,
+                          levelling="plane", channel=None) -> MeasuredSurface:
     """:func:`~polind.topography.heightmap.read_height_map` then :func:`analyse`.
 
     Parameters
@@ -224,6 +487,12 @@ def load_measured_surface(path, pixel_size=None, short_cutoff=None) -> MeasuredS
         ``(dx, dy)`` [m], for a ``.npy`` / ``.csv`` grid.
     short_cutoff : float, optional
         Low-pass cut-off wavelength [m].
+    remove_outliers : bool, optional
+        Mark the outliers missing.
+    levelling : {"plane", "lines"}, optional
+        How to level the map.
+    channel : str, optional
+        The channel of a file with several.
 
     Returns
     -------
@@ -231,4 +500,6 @@ def load_measured_surface(path, pixel_size=None, short_cutoff=None) -> MeasuredS
     """
     if short_cutoff is not None:  # checked before a long read
         check_number("topography", "short_cutoff", short_cutoff, "positive")
-    return analyse(read_height_map(path, pixel_size), short_cutoff)
+    check_levelling(levelling)
+    return analyse(read_height_map(path, pixel_size, channel), short_cutoff,
+                   remove_outliers=remove_outliers, levelling=levelling)

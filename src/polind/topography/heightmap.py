@@ -9,7 +9,11 @@ Sources:
 
 - every format SurfaceTopography reads (x3p, sur, plu, opd, datx, di, and
   about 35 more), with the file's own pixel size and units, converted to
-  metres; SurfaceTopography is imported only when such a file is read;
+  metres; SurfaceTopography is imported only when such a file is read.  A
+  file with several channels (an AFM's height, amplitude, phase, ...) gives
+  the channel asked for by name, else SurfaceTopography's default channel if
+  it holds heights, else the first height channel; the map records which
+  (``HeightMap.channel``);
 - a ``.npy`` array or a ``.csv`` grid (comma-separated, one row per ``i``,
   no header; an empty field or ``nan`` is a missing point), heights in
   metres, with the pixel size given by the caller.
@@ -27,7 +31,7 @@ import numpy as np
 from polind.errors import InputError, describe
 from polind.validation import check_number
 
-__all__ = ["HeightMap", "read_height_map", "GRID_SUFFIXES"]
+__all__ = ["HeightMap", "read_height_map", "surface_topography", "GRID_SUFFIXES"]
 
 #: File name endings read by polind itself (the pixel size must be given).
 GRID_SUFFIXES = (".npy", ".csv")
@@ -51,14 +55,19 @@ class HeightMap:
         ``(dx, dy)`` [m].
     source : str
         What the map came from (a file name), used in messages.
+    channel : str or None
+        The channel of the file the heights are (SurfaceTopography's
+        ``channel_id``: its name, with ``#n`` when several channels share
+        it); ``None`` for an array or a ``.npy`` / ``.csv`` grid.
     """
 
     heights: np.ndarray
     pixel_size: tuple[float, float]
     source: str = "height map"
+    channel: str | None = None
 
     @classmethod
-    def from_array(cls, heights, pixel_size, source="height map") -> "HeightMap":
+    def from_array(cls, heights, pixel_size, source="height map", channel=None) -> "HeightMap":
         """A checked height map from an array of heights [m] and ``(dx, dy)`` [m].
 
         A masked array's masked points and ``NaN`` become missing points.
@@ -97,7 +106,7 @@ class HeightMap:
         if valid == 0:
             raise InputError(f"{source}: every one of the {array.size} points is missing; "
                              f"expected a height map with valid points.")
-        return cls(array, (dx, dy), str(source))
+        return cls(array, (dx, dy), str(source), channel)
 
     @property
     def grid(self) -> tuple[int, int]:
@@ -121,7 +130,7 @@ def _pixel_size(pixel_size) -> tuple[float, float]:
     return tuple(check_number(_OWNER, "pixel_size", value, "positive") for value in values)
 
 
-def read_height_map(path, pixel_size=None) -> HeightMap:
+def read_height_map(path, pixel_size=None, channel=None) -> HeightMap:
     """Read a measured height map; heights and pixel sizes in metres.
 
     Parameters
@@ -133,18 +142,27 @@ def read_height_map(path, pixel_size=None) -> HeightMap:
         ``(dx, dy)`` [m]: required for a ``.npy`` / ``.csv`` grid and for a
         file that gives no physical size; refused for a file that gives its
         own.
+    channel : str, optional
+        The channel to read from a file with several (an AFM's ``Height``
+        beside its ``Amplitude`` and ``Phase``): its name, or
+        SurfaceTopography's ``channel_id`` (``Height#2`` for the second of
+        two channels named ``Height``).  Default: SurfaceTopography's default
+        channel if it holds heights, else the first height channel.
 
     Returns
     -------
     HeightMap
-        Missing points of the file (masked or ``NaN``) are ``NaN``.
+        Missing points of the file (masked or ``NaN``) are ``NaN``;
+        ``HeightMap.channel`` names the channel read.
 
     Raises
     ------
     polind.InputError
         One line naming the file and what was expected: the file is
         missing or unreadable, is a line scan, gives no unit, a grid has no
-        pixel size, every point is missing, ...
+        pixel size, every point is missing, the file has no channel of that
+        name (the message lists its channels) or the channel holds no
+        heights, ...
 
     Examples
     --------
@@ -158,6 +176,9 @@ def read_height_map(path, pixel_size=None) -> HeightMap:
     name = os.fspath(path)
     if pixel_size is not None:  # checked before a long read
         _pixel_size(pixel_size)
+    if channel is not None and (not isinstance(channel, str) or not channel):
+        raise InputError(f"The 'channel' parameter of {_OWNER} must be a channel's name. Got "
+                         f"{describe(channel)} instead.")
     if not os.path.exists(name):
         raise InputError(f"{name}: no such file; expected a height map.")
     if os.path.isdir(name):
@@ -166,9 +187,13 @@ def read_height_map(path, pixel_size=None) -> HeightMap:
         if pixel_size is None:
             raise InputError(f"{name}: a {os.path.splitext(name)[1]} grid holds no pixel size; "
                              f"expected the pixel size [dx, dy] in metres to be given with it.")
+        if channel is not None:
+            raise InputError(f"{name}: a {os.path.splitext(name)[1]} grid has one channel, the "
+                             f"heights; expected no 'channel' with it (that is for files with "
+                             f"several). Got {describe(channel)}.")
         heights = _read_npy(name) if name.lower().endswith(".npy") else _read_csv_grid(name)
         return HeightMap.from_array(heights, pixel_size, name)
-    return _read_with_surface_topography(name, pixel_size)
+    return _read_with_surface_topography(name, pixel_size, channel)
 
 
 def _read_npy(name) -> np.ndarray:
@@ -238,18 +263,51 @@ def _first_line(error) -> str:
     return text.splitlines()[0].strip()
 
 
-def _read_with_surface_topography(name, pixel_size) -> HeightMap:
+def _import_surface_topography(name):
+    """The SurfaceTopography package, imported on first use (``name``: for the message)."""
     try:
         with warnings.catch_warnings():
             # NuMPI (under SurfaceTopography) warns that it runs without MPI: that is intended.
             warnings.filterwarnings("ignore", message="Could not import mpi4py",
                                     category=ImportWarning)
             import SurfaceTopography
-            from SurfaceTopography.Exceptions import CannotDetectFileFormat
+            import SurfaceTopography.Exceptions  # noqa: F401 - the readers' errors
     except ImportError:  # pragma: no cover - a dependency of polind
-        raise InputError(f"{name}: reading this format needs the package SurfaceTopography, "
-                         f"which is not installed; expected it (pip install SurfaceTopography), "
-                         f"or a .npy/.csv grid.") from None
+        raise InputError(f"{name}: this needs the package SurfaceTopography, which is not "
+                         f"installed; expected it (pip install SurfaceTopography), or a "
+                         f".npy/.csv grid.") from None
+    return SurfaceTopography
+
+
+def surface_topography(height_map: HeightMap):
+    """The map as a SurfaceTopography ``Topography`` (non-periodic, metres, missing points masked).
+
+    What :mod:`polind.topography` hands to SurfaceTopography's own analysis
+    (scan-line alignment, roughness parameters, the power spectral density).
+
+    Parameters
+    ----------
+    height_map : HeightMap
+
+    Returns
+    -------
+    SurfaceTopography.Topography
+        Physical size ``(nx dx, ny dy)`` [m], so that its pixel size is
+        ``(dx, dy)``; heights a masked array where points are missing.
+    """
+    SurfaceTopography = _import_surface_topography(height_map.source)
+    heights = height_map.heights
+    missing = np.isnan(heights)
+    if missing.any():
+        heights = np.ma.masked_array(np.where(missing, 0.0, heights), mask=missing)
+    (nx, ny), (dx, dy) = height_map.grid, height_map.pixel_size
+    return SurfaceTopography.Topography(heights, (nx * dx, ny * dy), unit="m", periodic=False)
+
+
+def _read_with_surface_topography(name, pixel_size, channel) -> HeightMap:
+    SurfaceTopography = _import_surface_topography(name)
+    from SurfaceTopography.Exceptions import CannotDetectFileFormat
+
     try:
         reader = SurfaceTopography.open_topography(name)
     except CannotDetectFileFormat:
@@ -262,14 +320,50 @@ def _read_with_surface_topography(name, pixel_size) -> HeightMap:
         raise InputError(f"{name}: SurfaceTopography cannot read this file "
                          f"({_first_line(error)}); expected a readable height map.") from None
     try:
-        return _height_map_of(reader, name, pixel_size)
+        return _height_map_of(reader, name, pixel_size, channel)
     finally:
         reader.close()
 
 
-def _height_map_of(reader, name, pixel_size) -> HeightMap:
-    """The default channel of an open SurfaceTopography reader, in metres."""
-    channel = reader.default_channel
+def _channel_list(channels) -> str:
+    """``'Height' (height, nm), 'Phase' (phase, deg)``: a file's channels for a message."""
+    def kind(channel):
+        data_kind = getattr(channel, "data_kind", None)
+        return getattr(data_kind, "name", "height").lower()
+    return ", ".join(f"{channel.channel_id!r} ({kind(channel)}, "
+                     f"{channel.data_unit or 'no unit'})" for channel in channels)
+
+
+def _choose_channel(reader, name, wanted):
+    """The channel to read: ``wanted`` (a name or channel id), else the default height channel."""
+    channels = list(reader.channels)
+    if wanted is None:
+        default = reader.default_channel
+        if default.is_height_channel:
+            return default
+        heights = [channel for channel in channels if channel.is_height_channel]
+        if not heights:
+            raise InputError(f"{name}: none of its channels holds heights "
+                             f"({_channel_list(channels)}); expected a height map.")
+        return heights[0]
+    found = ([channel for channel in channels if channel.channel_id == wanted]
+             or [channel for channel in channels if channel.name == wanted])
+    if not found:
+        raise InputError(f"{name}: has no channel {wanted!r}; expected the 'channel' to be one "
+                         f"of its channels: {_channel_list(channels)}.")
+    channel = found[0]
+    if not channel.is_height_channel:
+        heights = [other for other in channels if other.is_height_channel]
+        choice = (f"one of its height channels: {_channel_list(heights)}" if heights
+                  else "a file with a height channel")
+        raise InputError(f"{name}: channel {wanted!r} holds {_channel_list([channel])} data, not "
+                         f"heights; expected {choice}.")
+    return channel
+
+
+def _height_map_of(reader, name, pixel_size, wanted=None) -> HeightMap:
+    """A height channel of an open SurfaceTopography reader, in metres."""
+    channel = _choose_channel(reader, name, wanted)
     if channel.dim != 2:
         raise InputError(f"{name}: is a line scan ({channel.dim}-dimensional data); expected "
                          f"a two-dimensional height map.")
@@ -293,7 +387,7 @@ def _height_map_of(reader, name, pixel_size) -> HeightMap:
                          f"({_sizes_text(channel.physical_sizes, channel.unit)}); expected no "
                          f"pixel size with it (that is only for .npy/.csv grids).")
     try:
-        topography = reader.topography(**options).to_unit("m")
+        topography = channel.topography(**options).to_unit("m")
         heights = topography.heights()
         dx, dy = (float(size) for size in topography.pixel_size)
     except MemoryError:
@@ -301,7 +395,7 @@ def _height_map_of(reader, name, pixel_size) -> HeightMap:
     except Exception as error:  # noqa: BLE001 - a reader's failure is a fault of the file
         raise InputError(f"{name}: SurfaceTopography cannot read the heights of this file "
                          f"({_first_line(error)}); expected a readable height map.") from None
-    return HeightMap.from_array(heights, (dx, dy), name)
+    return HeightMap.from_array(heights, (dx, dy), name, channel.channel_id)
 
 
 def _sizes_text(sizes, unit) -> str:

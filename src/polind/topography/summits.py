@@ -4,7 +4,10 @@ The steps, each a function on a grid ``h[i, j]`` at ``x = i dx``, ``y = j dy``
 with ``NaN`` for a missing point (missing points stay missing throughout):
 
 1. :func:`mean_plane` / :func:`level`: subtract the least-squares plane
-   ``a + b x + c y`` fitted over the valid points.
+   ``a + b x + c y`` fitted over the valid points; or, for a scanning-probe
+   map whose scan lines carry their own offsets and tilts,
+   :func:`level_lines` (SurfaceTopography's line-by-line alignment, then the
+   plane).
 2. :func:`low_pass` (optional): the areal Gaussian filter of ISO 16610-61
    with 50 % transmission at the wavelength ``short_cutoff``.
 3. :func:`find_summits`: a summit is an interior point, none of whose 8
@@ -26,8 +29,12 @@ import numpy as np
 from polind.errors import InputError
 from polind.validation import check_number
 
-__all__ = ["mean_plane", "level", "low_pass", "find_summits", "summit_curvatures",
-           "ISO_GAUSSIAN_ALPHA"]
+__all__ = ["mean_plane", "level", "level_lines", "level_map", "check_levelling", "LEVELLINGS",
+           "low_pass",
+           "find_summits", "summit_candidates", "summit_curvatures", "ISO_GAUSSIAN_ALPHA"]
+
+#: The ways of levelling a map (:func:`level_map`): the plane, or line by line.
+LEVELLINGS = ("plane", "lines")
 
 #: ``alpha = sqrt(ln 2 / pi)`` of the ISO 16610-61 Gaussian weighting function.
 ISO_GAUSSIAN_ALPHA = math.sqrt(math.log(2.0) / math.pi)
@@ -140,6 +147,81 @@ def level(heights, pixel_size, source="height map"):
     return levelled
 
 
+def level_lines(heights, pixel_size, source="height map"):
+    """Line-by-line levelling of a scanning-probe map, then :func:`level`.
+
+    An AFM or STM builds its map one scan line at a time (along ``x``, the
+    first index, the fast scan direction), and each line can carry its own
+    offset and tilt from drift and the feedback loop: steps between lines
+    that no plane removes.  SurfaceTopography's ``scan_line_align``
+    (``direction="x"``, ``degree=1``, ``mode="median"``) subtracts from each
+    line ``h[:, j]`` its own least-squares straight line over its valid
+    points and then shifts the lines so that the medians of neighbouring
+    lines agree; :func:`level` then removes what plane is left.  Any real
+    height variation across the lines (along ``y``) is removed with the
+    artefacts, so use it only on maps built line by line, never on an
+    optical (areal) measurement.
+
+    Parameters
+    ----------
+    heights : numpy.ndarray
+        ``h[i, j]`` [m], ``NaN`` where missing; a scan line is ``h[:, j]``.
+    pixel_size : pair of float
+        ``(dx, dy)`` [m].
+    source : str
+        Named in error messages.
+
+    Returns
+    -------
+    numpy.ndarray
+        The levelled heights [m] (a new array), ``NaN`` where missing.
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> rough = 1e-9 * rng.standard_normal((64, 32))             # the surface
+    >>> x = np.arange(64.0)[:, None] / 64
+    >>> lines = 5e-9 * rng.standard_normal(32) + 3e-9 * rng.standard_normal(32) * x
+    >>> scanned = rough + lines                                   # each line's offset and tilt
+    >>> by_lines, by_plane = level_lines(scanned, (1e-8, 1e-8)), level(scanned, (1e-8, 1e-8))
+    >>> [round(float(np.std(h) / np.std(rough)), 1) for h in (by_lines, by_plane)]
+    [1.0, 4.9]
+    """
+    from polind.topography.heightmap import HeightMap, surface_topography
+
+    h = np.asarray(heights, dtype=np.float64)
+    # A line with no valid point would make every offset after it NaN: align the others.
+    lines = np.flatnonzero((~np.isnan(h)).any(axis=0))
+    topography = surface_topography(HeightMap(h[:, lines], tuple(pixel_size), source))
+    aligned = topography.scan_line_align(direction="x", mode="median", degree=1).heights()
+    levelled = np.full(h.shape, np.nan)
+    levelled[:, lines] = np.ma.filled(np.ma.asarray(aligned, dtype=np.float64), np.nan)
+    levelled[np.isnan(h)] = np.nan
+    return level(levelled, pixel_size, source)
+
+
+def level_map(heights, pixel_size, levelling="plane", source="height map"):
+    """:func:`level` (``levelling="plane"``) or :func:`level_lines` (``"lines"``).
+
+    Raises
+    ------
+    polind.InputError
+        If ``levelling`` is neither.
+    """
+    if check_levelling(levelling) == "lines":
+        return level_lines(heights, pixel_size, source)
+    return level(heights, pixel_size, source)
+
+
+def check_levelling(levelling) -> str:
+    """``levelling`` if it is one of :data:`LEVELLINGS`, else an InputError naming them."""
+    if levelling not in LEVELLINGS:
+        raise InputError(f"The 'levelling' parameter of topography must be one of "
+                         f"{', '.join(repr(name) for name in LEVELLINGS)}. Got {levelling!r} "
+                         f"instead.")
+    return levelling
+
+
 def low_pass(heights, pixel_size, short_cutoff):
     """The ISO 16610-61 areal Gaussian low-pass filter (short-wavelength cut-off).
 
@@ -233,6 +315,29 @@ def find_summits(heights):
         np.logical_and(summit, centre > neighbour(di, dj), out=summit)
     i, j = np.nonzero(summit)
     return i + 1, j + 1
+
+
+def summit_candidates(heights) -> int:
+    """The number of points that could be summits: interior, valid, with 8 valid neighbours.
+
+    A white-noise map (independent heights) has a summit at one in nine of
+    them, each point of a 3 x 3 block being equally likely to be its highest
+    (:ref:`guide-measured-surfaces-validity`).
+
+    Examples
+    --------
+    >>> h = np.zeros((5, 6)); h[1, 1] = np.nan
+    >>> summit_candidates(h)                # 3 x 4 interior points, 4 of them next to the hole
+    8
+    """
+    valid = ~np.isnan(np.asarray(heights, dtype=np.float64))
+    nx, ny = valid.shape
+    if nx < 3 or ny < 3:
+        return 0
+    eligible = valid[1:-1, 1:-1].copy()
+    for di, dj in _NEIGHBOURS:
+        eligible &= valid[1 + di:nx - 1 + di, 1 + dj:ny - 1 + dj]
+    return int(np.count_nonzero(eligible))
 
 
 def summit_curvatures(heights, pixel_size, i, j):

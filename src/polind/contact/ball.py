@@ -1,0 +1,59 @@
+"""The nominal area of a ball on a flat, its macroscopic Hertz contact.
+
+See :ref:`guide-measured-surfaces-ball`.
+
+On a ball-on-flat tribometer the rough contact is not the whole sample: it
+is the patch the ball flattens.  Hertz's solution for a sphere of radius
+``R_b`` pressed on a flat by ``N`` gives the contact radius
+
+    a = (3 N R_b / (4 E*))^(1/3)
+
+and the nominal area ``A0 = pi a^2`` over which the asperities meet
+(``E*`` of the same material pair as the asperities).  ``[model.surface]
+ball_radius`` puts this ``A0`` in place of ``nominal_area``
+(:func:`polind.contact.build_surface`).
+"""
+
+from __future__ import annotations
+
+import math
+
+from polind.contact._checks import positive_number
+
+__all__ = ["hertz_contact_radius", "ball_contact_area"]
+
+
+def hertz_contact_radius(normal_load, ball_radius, E_star) -> float:
+    """``a = (3 N R_b / (4 E*))^(1/3)`` [m]: Hertz's contact radius of a ball on a flat.
+
+    Parameters
+    ----------
+    normal_load : float
+        ``N`` [N].
+    ball_radius : float
+        ``R_b`` [m].
+    E_star : float
+        Effective modulus ``E*`` [Pa].
+
+    Examples
+    --------
+    >>> round(hertz_contact_radius(5.0, 3e-3, 1.15e11) * 1e6, 2)   # a 6 mm steel ball at 5 N
+    46.08
+    """
+    N = positive_number(normal_load, "normal_load")
+    R = positive_number(ball_radius, "surface.ball_radius")
+    E = positive_number(E_star, "E_star")
+    return (3.0 * N * R / (4.0 * E)) ** (1.0 / 3.0)
+
+
+def ball_contact_area(normal_load, ball_radius, E_star) -> float:
+    """``A0 = pi a^2`` [m^2] with ``a`` of :func:`hertz_contact_radius`.
+
+    Examples
+    --------
+    >>> a = hertz_contact_radius(5.0, 3e-3, 1.15e11)
+    >>> ball_contact_area(5.0, 3e-3, 1.15e11) == math.pi * a * a
+    True
+    """
+    radius = hertz_contact_radius(normal_load, ball_radius, E_star)
+    return math.pi * radius * radius
