@@ -494,3 +494,28 @@ def test_a_measured_map_reports_the_plasticity_index_of_its_greenwood_williamson
         delta / radius)
     assert figures["peak_asperity_pressure"] == pytest.approx(expected, rel=1e-12)
     assert 0.0 < figures["plastic_contact_share"] <= 1.0
+
+
+def test_a_fit_warns_about_validity_once_for_its_result_not_for_every_trial():
+    """A fit tries many models; only the fitted one's validity is reported (once)."""
+    import warnings
+
+    import numpy as np
+
+    import polind
+    from polind.models import PolInd
+
+    params = PolInd.example_parameters(elements=8)
+    params["surface"]["asperity_radius"] = 1e-6        # sharp summits: tens of GPa in Hertz
+    truth = PolInd(**params)
+    t = np.linspace(0.0, 0.02, 201)
+    x = 2e-6 * np.sin(2 * np.pi * 50 * t)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        force = polind.simulate(truth, t, x=x).force
+        start = truth.with_params(kinetic_coefficient=0.12)
+        fit = polind.identify(start, {"t": t, "x": x, "F": force},
+                              free=["kinetic_coefficient"], starts=1)
+    validity = [w for w in caught if issubclass(w.category, polind.ValidityWarning)]
+    # the truth's run, the start's check and the fitted model: not one per trial
+    assert fit.evaluations > 3 and 1 <= len(validity) <= 3

@@ -14,9 +14,9 @@ A model as a discrete-time python-control system (optional extra
     sys = friction_system(model, dt=1e-3)        # input "x" (or "v"), output "F"
 """
 
-from polind.errors import InputError
+from polind.errors import InputError, ValidityWarning
 
-__all__ = ["InputError", "MODEL_TYPES", "FrictionModel", "State", "SimulationResult",
+__all__ = ["InputError", "ValidityWarning", "MODEL_TYPES", "FrictionModel", "State", "SimulationResult",
            "StepFunctions", "StepKernel", "register_model", "unregister_model", "Param", "Table", "Stepper", "Body",
            "load_model", "model_from_dict", "save_model", "simulate", "System", "SystemResult",
            "load_system", "simulate_system", "identify", "FitResult",

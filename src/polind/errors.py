@@ -20,6 +20,11 @@ class InputError(ValueError):
         super().__init__(" ".join(str(message).split()))
 
 
+class ValidityWarning(UserWarning):
+    """A result computed outside the validity of its physics (e.g. elastic asperities at
+    pressures no metal bears): it is returned, and this says plainly why it may be wrong."""
+
+
 def describe(value) -> str:
     """Short printable form of a received value for error messages."""
     text = repr(value)

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from polind.errors import InputError
+from polind.errors import InputError, ValidityWarning
 from polind.identification.data import MeasuredData, holdout_split, measured_data
 from polind.identification.memory import fit_bytes_per_sample
 from polind.identification.parameters import build_free, model_at, param_value, parse_fit
@@ -463,10 +463,14 @@ def identify(model, data, *, free=None, bounds=None, holdout=None, starts=None,
                          "data; check its parameters.")
     settings = _Settings(max_evaluations, tolerance, diff_step, x_scale, workers)
     counter = _Counter(callback)
-    fits = _fit_from_starts(start, keys, given_bounds, frees, measured, settings, counter,
-                            starts=starts, spread=DEFAULT_SPREAD_STARTS,
-                            extra_starts=_checked_extra_starts(extra_starts, start),
-                            special_cases=True)
+    with warnings.catch_warnings():
+        # A trial model's validity is no news (a fit tries hundreds): the fitted model's
+        # own warning, if it has one, is given once below.
+        warnings.simplefilter("ignore", ValidityWarning)
+        fits = _fit_from_starts(start, keys, given_bounds, frees, measured, settings, counter,
+                                starts=starts, spread=DEFAULT_SPREAD_STARTS,
+                                extra_starts=_checked_extra_starts(extra_starts, start),
+                                special_cases=True)
     best = min(fits, key=lambda local: local.rss)        # the first of equals: the earliest
     fitted = model_at(start, frees, best.u)
     force = measured.simulate(fitted)

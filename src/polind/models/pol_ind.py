@@ -35,7 +35,7 @@ import warnings
 
 import numpy as np
 
-from polind.errors import InputError
+from polind.errors import InputError, ValidityWarning
 from polind.models import pol_ind_fit
 from polind.models.base import FrictionModel, StepFunctions, register
 from polind.models.gms import GMS, gms_arrays, gms_scales
@@ -258,7 +258,7 @@ class PolInd(FrictionModel):
             self._contacts[load] = contact
             message = contact.validity_warning()
             if message is not None:
-                warnings.warn(message, UserWarning, stacklevel=2)
+                warnings.warn(message, ValidityWarning, stacklevel=2)
         return self._contacts[load]
 
     @property
