@@ -7,8 +7,9 @@ import os
 import click
 
 from polind.cli.common import (advancing, blame, check_output_path, cli, file_path,
-                               load_model, model_argument, output_option, progress,
-                               read_samples, refuse_overwriting_inputs, write_samples)
+                               load_model, model_argument, model_inputs, output_option,
+                               progress, read_samples, refuse_overwriting_inputs,
+                               write_samples)
 from polind.errors import InputError
 
 
@@ -29,7 +30,8 @@ def simulate(model_path, motion_path, output_path):
     from polind import io
     from polind.simulation import BYTES_PER_SAMPLE
 
-    refuse_overwriting_inputs([model_path, motion_path], {"--output": output_path})
+    refuse_overwriting_inputs([*model_inputs(model_path), motion_path],
+                              {"--output": output_path})
     check_output_path(output_path)
     model = load_model(model_path)
     io.check_table_memory(motion_path, BYTES_PER_SAMPLE, "simulating")
@@ -61,7 +63,8 @@ def dynamics(model_path, system_path, output_path):
     import polind
     from polind import io
 
-    refuse_overwriting_inputs([model_path, system_path], {"--output": output_path})
+    refuse_overwriting_inputs([*model_inputs(model_path), system_path],
+                              {"--output": output_path})
     check_output_path(output_path)
     model = load_model(model_path)
     with blame(system_path):
