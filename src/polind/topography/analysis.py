@@ -27,6 +27,10 @@ from polind.topography.summits import find_summits, level, low_pass, summit_curv
 
 __all__ = ["MeasuredSurface", "analyse", "load_measured_surface"]
 
+# Heights closer than this many times the largest height of the map (as measured) are
+# equal to within the round-off of levelling (a few operations of relative error eps).
+_ROUND_OFF = 64 * float(np.finfo(np.float64).eps)
+
 
 @dataclass(frozen=True)
 class MeasuredSurface:
@@ -145,9 +149,10 @@ class MeasuredSurface:
         ``summit_radius_median``, ``summit_height_std``,
         ``greenwood_williamson``; also ``nominal_area`` (m^2),
         ``summit_height_mean`` (m, above the mean plane) and
-        ``short_cutoff`` (m, or None).
+        ``short_cutoff`` (m, or None).  Every number is finite: a map whose
+        statistics pass double precision is an InputError naming the key.
         """
-        return {
+        summary = {
             "grid": list(self.grid),
             "pixel_size": [float(size) for size in self.pixel_size],
             "valid_points": self.valid_points,
@@ -163,6 +168,12 @@ class MeasuredSurface:
             "greenwood_williamson": {key: float(value) for key, value
                                      in self.greenwood_williamson().items()},
         }
+        for key, value in [*summary.items(), *summary["greenwood_williamson"].items()]:
+            if isinstance(value, float) and not np.isfinite(value):
+                raise InputError(f"{self.source}: its {key} is {value} (beyond double "
+                                 f"precision); expected heights and pixel sizes of a physical "
+                                 f"size.")
+        return summary
 
 
 def analyse(height_map: HeightMap, short_cutoff=None) -> MeasuredSurface:
@@ -197,13 +208,23 @@ def analyse(height_map: HeightMap, short_cutoff=None) -> MeasuredSurface:
     dx, dy = height_map.pixel_size
     heights = level(height_map.heights, (dx, dy), height_map.source)
     if short_cutoff is not None:
-        heights = low_pass(heights, (dx, dy), short_cutoff)
-        short_cutoff = float(short_cutoff)
-    i, j = find_summits(heights)
+        cutoff = check_number("topography", "short_cutoff", short_cutoff, "positive")
+        nx, ny = height_map.grid
+        extent = max(nx * dx, ny * dy)
+        if cutoff > extent:
+            raise InputError(f"{height_map.source}: the short_cutoff {cutoff!r} m is longer than "
+                             f"the map ({extent:.6g} m across), which it would flatten; "
+                             f"expected a cut-off shorter than the map.")
+        heights = low_pass(heights, (dx, dy), cutoff)
+        short_cutoff = cutoff
+    # Levelling leaves round-off of the size of the heights it subtracted the plane from
+    # (a tilted plane is flat to within it): a summit must stand out of it.
+    largest = float(np.nanmax(np.abs(height_map.heights)))
+    i, j = find_summits(heights, tolerance=_ROUND_OFF * largest)
     if i.size == 0:
         raise InputError(f"{height_map.source}: the map has no summit (no interior point with "
-                         f"8 valid neighbours is strictly higher than all of them); expected a "
-                         f"rough surface.")
+                         f"8 valid neighbours stands above all of them by more than the "
+                         f"round-off of levelling); expected a rough surface.")
     return MeasuredSurface(
         height_map=HeightMap(heights, (float(dx), float(dy)), height_map.source),
         summit_index=(i, j),
