@@ -95,14 +95,22 @@ def check_scheduler(address: str, timeout: float = None) -> None:
 
 @contextlib.contextmanager
 def _quiet_cluster_logs():
-    """Keep distributed's log lines (reconnection attempts, tracebacks) off standard error."""
-    logger = logging.getLogger("distributed")
-    level = logger.level
-    logger.setLevel(logging.CRITICAL + 1)
+    """Keep distributed's log lines (reconnection attempts, tracebacks) off standard error.
+
+    distributed sets the levels of its own loggers (``distributed.client``...),
+    so each is silenced, and given its level back afterwards.
+    """
+    names = ["distributed", *(name for name in logging.root.manager.loggerDict
+                              if name.startswith("distributed."))]
+    loggers = [logging.getLogger(name) for name in names]
+    levels = [logger.level for logger in loggers]
+    for logger in loggers:
+        logger.setLevel(logging.CRITICAL + 1)
     try:
         yield
     finally:
-        logger.setLevel(level)
+        for logger, level in zip(loggers, levels):
+            logger.setLevel(level)
 
 
 def _dask_task(plan, index, values):
@@ -156,12 +164,12 @@ def run_dask(plan: RunPlan, todo, scheduler, record, keep, lost) -> None:
                 unrecorded.discard(future)
                 if future.status == "finished":
                     record(future.result())
-                elif client.status in ("running", "connecting"):
+                elif client.status == "running":
                     lost(future)
                 else:
                     unrecorded.add(future)      # the scheduler is gone, not the task
                     break
-            if client.status not in ("running", "connecting"):
+            if client.status != "running":
                 failure = "gone"
         except (OSError, TimeoutError) as error:
             failure = error

@@ -135,8 +135,13 @@ class Results:
             self._held = None
 
     def check_writable(self) -> None:
-        """Refuse (InputError) an existing table that cannot take the rows to come."""
-        if os.path.exists(self.path) and not os.access(self.path, os.W_OK):
+        """Refuse (InputError) an existing table that cannot take the rows to come.
+
+        A table made read-only (no write permission for anyone) is refused
+        even where the user could write it all the same (root).
+        """
+        if os.path.exists(self.path) and (not os.access(self.path, os.W_OK)
+                                          or not os.stat(self.path).st_mode & 0o222):
             raise InputError(f"{self.path}: the results table is read-only; a sweep adds its "
                              f"rows to it: expected a file it may write, or another --output")
 
