@@ -374,13 +374,13 @@ class FrictionModel:
         if self.__dict__.get("_numbers_checked"):
             return
         check_sizes(self.type, self.parameters, self._params)
-        check_scales(self.type, call_declared(self, self.characteristic_scales))
+        check_scales(self.type, call_declared(self, "characteristic_scales"))
         self._numbers_checked = True
 
     def initial_state(self, normal_load=None) -> State:
         """The state at rest before any motion (all internal variables zero)."""
         self.check_numbers()
-        variables = call_declared(self, self.initial_variables, normal_load)
+        variables = call_declared(self, "initial_variables", normal_load)
         try:
             return State(self.type, variables=variables)
         except InputError as error:
@@ -446,8 +446,8 @@ class FrictionModel:
             state = self.initial_state(normal_load)
         else:
             self.check_state(state)
-        functions = call_declared(self, self.step_functions)
-        arrays = call_declared(self, self.kernel_arrays, state)
+        functions = call_declared(self, "step_functions")
+        arrays = call_declared(self, "kernel_arrays", state)
         check_step_parts(self, functions, arrays, state.variables)
         scalars, table = arrays
         if varying_load is None:

@@ -110,8 +110,8 @@ def check_scales(model_type, scales) -> None:
                              f"together.")
 
 
-def call_declared(owner, method, *args):
-    """``method(*args)`` of a model (``owner``: the model or its class), a failure named.
+def call_declared(owner, name, *args):
+    """The method ``name`` of a model (``owner``: the model or its class) called, a failure named.
 
     A model of one's own (a class defined outside polind) may fail in its own
     code: its exception becomes an InputError naming the class and the
@@ -119,6 +119,7 @@ def call_declared(owner, method, *args):
     exceptions go on as they are (a bug of polind's, an internal error).
     """
     cls = owner if isinstance(owner, type) else type(owner)
+    method = getattr(owner, name)
     if cls.__module__.split(".")[0] == "polind":
         return method(*args)
     try:
@@ -126,7 +127,7 @@ def call_declared(owner, method, *args):
     except InputError:
         raise
     except Exception as error:  # noqa: BLE001 - the model's own code, whatever it raises
-        raise InputError(f"The model class {cls.__name__}'s {method.__name__}() failed: "
+        raise InputError(f"The model class {cls.__name__}'s {name}() failed: "
                          f"{type(error).__name__}: {error}") from None
 
 

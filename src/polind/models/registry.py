@@ -89,7 +89,7 @@ def _check_declarations(cls) -> None:
                          f"{describe(getattr(cls, 'parameters', None))} instead.")
     if cls.example_parameters.__func__ is FrictionModel.example_parameters.__func__:
         return                          # nothing to build a model from: checked when stepped
-    parameters = call_declared(cls, cls.example_parameters)
+    parameters = call_declared(cls, "example_parameters")
     if not isinstance(parameters, dict):
         raise InputError(f"The model class {cls.__name__}'s example_parameters() must return a "
                          f"dict of parameters. Got {describe(parameters)} instead.")
@@ -101,7 +101,7 @@ def _check_declarations(cls) -> None:
     except Exception as error:  # noqa: BLE001 - the class's own code
         raise InputError(f"The model class {cls.__name__} cannot be built from its "
                          f"example_parameters(): {type(error).__name__}: {error}") from None
-    call_declared(cls, model.step_kernel)
+    call_declared(model, "step_kernel")
 
 
 def unregister_model(model_type: str) -> type:
