@@ -187,11 +187,11 @@ def sweep(spec, output, *, workers=None, scheduler=None, max_runs=MAX_RUNS,
     _check_output(name, plan)
     runs = plan.runs
     if max_runs is not None and runs > max_runs:
-        raise InputError(f"{plan.name}: the sweep has {runs:,} runs, more than the limit of "
-                         f"{int(max_runs):,}; check the counts of [sweep.parameters] and "
+        raise InputError(f"{plan.name}: the sweep has {_count(runs)} runs, more than the limit "
+                         f"of {_count(max_runs)}; check the counts of [sweep.parameters] and "
                          f"sweep.samples, or confirm with --yes (max_runs=None in Python)")
     check_memory(min(runs, 1e300) * (len(plan.axes) + 2) * 64.0,
-                 f"{plan.name}: the design ({runs:,} runs)")
+                 f"{plan.name}: the design ({_count(runs)} runs)")
     design = plan.design()
     with Results(name, plan, design) as results:
         todo = [(index, values) for index, values in enumerate(design)
@@ -229,6 +229,13 @@ def sweep(spec, output, *, workers=None, scheduler=None, max_runs=MAX_RUNS,
         return SweepSummary(path=name, runs=runs, computed=counts["done"],
                             failed=counts["failed"], lost=counts["lost"],
                             seconds=time.perf_counter() - started, table=results.table())
+
+
+def _count(number) -> str:
+    """A count for a message: ``12,345``, or ``about 1e+400`` for a huge one."""
+    if number < 10 ** 15:
+        return f"{int(number):,}"
+    return f"about 1e+{int(int(number).bit_length() * 0.30103)}"
 
 
 def _check_options(workers, scheduler, max_runs):
