@@ -144,11 +144,13 @@ def _stream_open(name, binary):
         raise _cannot_write(name, exc) from None
 
 
-def _staged(name, data=None):
-    """A temporary file beside the output ``name`` (its link's target): ``(handle, path)``.
+@contextlib.contextmanager
+def _temporary_beside(name, binary=True, replace=True):
+    """Yield ``(stream, path)`` of a temporary file beside the output ``name`` (a link's target).
 
-    With ``data`` (bytes), the whole content is written, flushed to disk and
-    the file closed (``handle`` None).  The caller removes it on failure.
+    At the end of the block its whole content is flushed to disk, it gets the
+    output's permissions and, with ``replace``, it replaces the output.  Any
+    failure removes it (an OSError becomes an InputError naming the output).
     """
     target = os.path.realpath(name)
     try:
@@ -156,21 +158,24 @@ def _staged(name, data=None):
                                              prefix=f".{os.path.basename(target)}.")
     except OSError as exc:
         raise _cannot_write(name, exc) from None
-    if data is None:
-        return handle, temporary
     try:
-        with os.fdopen(handle, "wb") as stream:
-            stream.write(data)
+        if binary:
+            stream = os.fdopen(handle, "wb")
+        else:
+            stream = os.fdopen(handle, "w", encoding="utf-8", newline="\n")
+        with stream:
+            yield stream, temporary
             stream.flush()
             os.fsync(stream.fileno())
         os.chmod(temporary, _new_file_mode(target))
+        if replace:
+            os.replace(temporary, target)
     except BaseException as exc:
         with contextlib.suppress(OSError):
             os.unlink(temporary)
         if isinstance(exc, OSError):
-            raise _cannot_write(name, exc) from None
+            raise _cannot_write(name, exc) from exc
         raise
-    return None, temporary
 
 
 @contextlib.contextmanager
@@ -193,26 +198,8 @@ def atomic_open(path, binary=False):
         with _stream_open(name, binary) as stream:
             yield stream
         return
-    target = os.path.realpath(name)
-    with _removing_on_signals():
-        handle, temporary = _staged(name)
-        try:
-            if binary:
-                stream = os.fdopen(handle, "wb")
-            else:
-                stream = os.fdopen(handle, "w", encoding="utf-8", newline="\n")
-            with stream:
-                yield stream
-                stream.flush()
-                os.fsync(stream.fileno())
-            os.chmod(temporary, _new_file_mode(target))
-            os.replace(temporary, target)
-        except BaseException as exc:
-            with contextlib.suppress(OSError):
-                os.unlink(temporary)
-            if isinstance(exc, OSError):
-                raise _cannot_write(name, exc) from exc
-            raise
+    with _removing_on_signals(), _temporary_beside(name, binary) as (stream, _):
+        yield stream
 
 
 def atomic_write_bytes(path, data: bytes) -> None:
@@ -263,7 +250,9 @@ def write_together(outputs) -> None:
         try:
             for name, data in items:
                 if not _is_stream(name):
-                    staged.append((name, _staged(name, data)[1]))
+                    with _temporary_beside(name, replace=False) as (stream, temporary):
+                        stream.write(data)
+                    staged.append((name, temporary))
             for name, data in items:
                 if _is_stream(name):
                     with _stream_open(name, binary=True) as stream:

@@ -39,6 +39,7 @@ from io import StringIO
 
 from polind.errors import InputError, describe
 from polind.io import atomic_open, atomic_write_text, number_text, writer_lock
+from polind.io.text import read_bytes
 from polind.sweeps.design import Sweep
 from polind.sweeps.runs import one_line
 
@@ -57,18 +58,6 @@ def record_path(path) -> str:
     """Where a CSV results table keeps its record: ``.NAME.sweep.json`` beside it."""
     folder, base = os.path.split(os.path.realpath(os.fspath(path)))
     return os.path.join(folder, f".{base}.sweep.json")
-
-
-def _read_bytes(name) -> bytes:
-    try:
-        with open(name, "rb") as stream:
-            return stream.read()
-    except FileNotFoundError:
-        raise InputError(f"{name}: no such file; expected a sweep's results table") from None
-    except IsADirectoryError:
-        raise InputError(f"{name}: is a directory; expected a sweep's results table") from None
-    except OSError as error:
-        raise InputError(f"{name}: cannot read the file: {error.strerror or error}") from None
 
 
 def _csv_lines(name, data: bytes) -> tuple[list[str], int]:
@@ -236,7 +225,7 @@ class Results:
 
     def _read_csv(self):
         kinds = self._kinds()
-        data = _read_bytes(self.path)
+        data = read_bytes(self.path, "a sweep's results table")
         if not data:
             return []                   # nothing there to lose: the table starts here
         lines, end = _csv_lines(self.path, data)
@@ -368,7 +357,7 @@ def read_results(path) -> dict:
     if name.lower().endswith(".parquet"):
         columns = _parquet_columns(name)
     else:
-        lines, _ = _csv_lines(name, _read_bytes(name))
+        lines, _ = _csv_lines(name, read_bytes(name, "a sweep's results table"))
         reader = csv.reader(lines)
         header = next(reader, [])
         columns = {key: [] for key in header}
