@@ -6,9 +6,10 @@ command); :func:`model_argument`, :func:`output_option` and
 :func:`file_path` declare the file parameters; :func:`load_model`,
 :func:`blame`, :func:`model_inputs`, :func:`check_output_path` and
 :func:`refuse_overwriting_inputs` read and check the files (every file a command
-reads, directly or through a model, is an input no output may replace); :func:`progress`, :func:`read_samples` and
-:func:`write_samples` show progress.  Only click and :mod:`polind.errors` are
-imported here: the heavy modules are imported inside the functions.
+reads, directly or through a model, is an input no output may replace);
+:func:`progress`, :func:`read_samples` and :func:`write_samples` show progress.
+Only click and :mod:`polind.errors` are imported here: the heavy modules are
+imported inside the functions.
 """
 
 from __future__ import annotations

@@ -62,7 +62,7 @@ def _nesting(value, depth=0) -> int:
 def read_document(path) -> dict:
     """Parse a TOML or JSON file (JSON if the name ends in ``.json``) into a dict.
 
-    A document nested more than :data:`MAX_NESTING` tables and lists deep
+    A document nested more than ``MAX_NESTING`` tables and lists deep
     is refused (a parser would run out of stack on a deep enough one), as is
     an integer of more digits than Python converts (4300).
     """

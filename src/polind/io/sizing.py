@@ -68,7 +68,7 @@ def table_size(path) -> tuple[int, int, bool]:
     A Parquet file's metadata gives them exactly.  A CSV file's columns are
     those of its header, and its data rows are counted in a file of 64 KiB or
     less; a bigger one's are its size over the shortest mean length of the
-    rows in its first 64 KiB and in :data:`SAMPLES` stretches spread over
+    rows in its first 64 KiB and in ``SAMPLES`` stretches spread over
     the rest of it (``exact`` False), so that long rows at its start do not
     hide short ones after.  A file that cannot be read gives ``(0, 0, True)``:
     its reader names the problem.
@@ -112,7 +112,7 @@ _STRETCH_BYTES = 1 << 12
 
 
 def _stretches(stream, offset, size) -> list[bytes]:
-    """:data:`SAMPLES` stretches of a file's bytes after ``offset``, evenly spread over it."""
+    """``SAMPLES`` stretches of a file's bytes after ``offset``, evenly spread over it."""
     out = []
     span = max(size - offset - _STRETCH_BYTES, 0)
     for index in range(1, SAMPLES + 1):

@@ -18,7 +18,7 @@ __all__ = ["read_bytes", "read_text"]
 
 
 def read_bytes(path, expected="a file") -> bytes:
-    """The file's bytes; an InputError naming it (and what was ``expected``) if it cannot be read."""
+    """The file's bytes; an InputError naming it and what was ``expected`` if it cannot be read."""
     name = os.fspath(path)
     try:
         return Path(path).read_bytes()

@@ -24,6 +24,7 @@ from polind.models.registry import MODEL_TYPES, register_model
 from polind.models.params import Param, Table, validate_table
 from polind.models.state import Path, State
 
+
 def register(cls):
     """polind's own models register with :func:`register_model`, as a class decorator.
 

@@ -15,7 +15,7 @@ own and a user's, :func:`polind.register_model`):
   the force levels of one model lie within the resolution of a double of
   each other (the smaller is not lost in the round-off of the larger);
 - :func:`check_step_parts`: what the model's own methods return has the
-  shapes the stepping contract takes (a :class:`StepFunctions` of numba
+  shapes the stepping contract takes (a :class:`polind.StepFunctions` of numba
   functions, float64 arrays), each failure naming the method.
 
 Every failure is an :class:`~polind.errors.InputError` naming the key, the

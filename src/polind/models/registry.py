@@ -64,18 +64,20 @@ def register_model(cls, *, replace=False, check=True):
         if getattr(cls, method) is getattr(FrictionModel, method):
             raise InputError(f"The model class {cls.__name__} must define {method}() "
                              f"(see polind.FrictionModel).")
-    with _LOCK:
-        if name in _REGISTRY and _REGISTRY[name] is not cls and not replace:
-            raise InputError(f"The model type '{name}' is already registered (by "
-                             f"{_REGISTRY[name].__name__}); choose another name.")
+    _refuse_taken(name, cls, replace)
     if check:
         _check_declarations(cls)
     with _LOCK:
+        _refuse_taken(name, cls, replace)       # again: registered meanwhile?
+        _REGISTRY[name] = cls
+    return cls
+
+
+def _refuse_taken(name, cls, replace) -> None:
+    with _LOCK:
         if name in _REGISTRY and _REGISTRY[name] is not cls and not replace:
             raise InputError(f"The model type '{name}' is already registered (by "
                              f"{_REGISTRY[name].__name__}); choose another name.")
-        _REGISTRY[name] = cls
-    return cls
 
 
 def _check_declarations(cls) -> None:

@@ -80,10 +80,10 @@ class HeightMap:
         ------
         polind.InputError
             If the array is not two-dimensional with at least 3 x 3 points,
-            holds an infinite value or a height beyond :data:`LARGEST_HEIGHT`
-            in size, has no valid point, or the pixel size is not two
-            positive numbers from 1e-100 to 1e100 m; the message names
-            ``source``.
+            holds an infinite value or a height beyond
+            :data:`polind.topography.heightmap.LARGEST_HEIGHT` in size, has
+            no valid point, or the pixel size is not two positive numbers
+            from 1e-100 to 1e100 m; the message names ``source``.
 
         Examples
         --------
