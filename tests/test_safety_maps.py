@@ -214,6 +214,19 @@ def test_a_flat_plane_has_no_summit_tilted_or_not(tmp_path_factory, capsys, offs
     assert status == 2 and "no summit" in one_error_line(err), err
 
 
+def test_a_plot_appears_only_once_the_summary_is_printed(tmp_path, capsys, monkeypatch):
+    """Cause 14 for topography: standard output full, and no figure file either."""
+    from test_safety_outputs import FullStream
+
+    path = tmp_path / "map.npy"
+    np.save(path, rough())
+    monkeypatch.setattr("sys.stdout", FullStream())
+    status = _run(["topography", str(path), "--pixel-size", "1e-6", "1e-6", "--plot",
+                   str(tmp_path / "p.png")])
+    assert status == 2 and "standard output" in one_error_line(capsys.readouterr().err)
+    assert sorted(os.listdir(tmp_path)) == ["map.npy"]
+
+
 def test_the_fixtures_are_left_as_they_were(tmp_path, capsys):
     """Every refusal above leaves its map byte-identical (checked here once for a plot)."""
     path = tmp_path / "plane.npy"

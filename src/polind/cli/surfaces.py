@@ -90,14 +90,26 @@ def topography(map_path, as_json, plot_path, pixel_size, short_cutoff):
     with blame(map_path):
         surface = measured.load_measured_surface(map_path, pixel_size=pixel_size,
                                                  short_cutoff=short_cutoff)
+        summary = surface.summary()         # every number checked finite
+    figure = None
     if plot_path is not None:
         from polind.topography_figure import figure_png
 
-        io.atomic_write_bytes(plot_path, figure_png(surface))
-    summary = surface.summary()
+        figure = figure_png(surface)
+    # What is printed goes first: a figure file appears only once it has (a file can be
+    # left unwritten, a stream cannot take back what it took).
     if as_json:
         click.echo(json.dumps(summary, allow_nan=False))
-        return
+    else:
+        click.echo(_summary_text(map_path, summary), err=to_stdout)
+    if figure is not None:
+        io.atomic_write_bytes(plot_path, figure)
+        if not (to_stdout or as_json):
+            click.echo(f"\nwrote {plot_path}")
+
+
+def _summary_text(map_path, summary) -> str:
+    """The readable summary of ``polind topography``."""
     (nx, ny), (dx, dy) = summary["grid"], summary["pixel_size"]
     gw = summary["greenwood_williamson"]
     cutoff = summary["short_cutoff"]
@@ -119,6 +131,4 @@ def topography(map_path, as_json, plot_path, pixel_size, short_cutoff):
         f"  asperity_radius = {gw['asperity_radius']:.6g}",
         f"  height_std = {gw['height_std']:.6g}",
     ]
-    if plot_path is not None and not to_stdout:
-        lines += ["", f"wrote {plot_path}"]
-    click.echo("\n".join(lines), err=to_stdout)
+    return "\n".join(lines)
