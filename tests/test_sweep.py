@@ -242,7 +242,7 @@ def test_a_dask_cluster_of_two_processes_gives_identical_rows(files, tmp_path):
 
 
 def test_an_unreachable_scheduler_is_one_line_and_exit_2(files, tmp_path, capsys, monkeypatch):
-    monkeypatch.setattr(sys.modules["polind.sweeps.engine"], "_CONNECT_TIMEOUT", "1s")
+    monkeypatch.setattr(sys.modules["polind.sweeps.cluster"], "CONNECT_TIMEOUT", 1.0)
     status, _, err = run(capsys, "sweep", files(), "--output", tmp_path / "r.csv",
                          "--scheduler", "tcp://127.0.0.1:9")
     assert status == 2 and err.count("\n") == 1 and "127.0.0.1:9" in err, err

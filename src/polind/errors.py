@@ -26,6 +26,18 @@ class ValidityWarning(UserWarning):
 
 
 def describe(value) -> str:
-    """Short printable form of a received value for error messages."""
-    text = repr(value)
+    """Short printable form of a received value for error messages.
+
+    >>> describe(10 ** 5000)
+    'an integer of 5001 digits'
+    """
+    if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > 200:
+        # repr refuses integers of more than 4300 digits: count them instead.
+        digits = len(str(abs(value))) if value.bit_length() < 14000 else \
+            int(value.bit_length() * 0.30102999566398120) + 1
+        return f"an integer of {digits} digits"
+    try:
+        text = repr(value)
+    except (ValueError, RecursionError):
+        text = f"a {type(value).__name__} that cannot be printed"
     return text if len(text) <= 60 else text[:57] + "..."

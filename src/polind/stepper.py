@@ -31,6 +31,16 @@ from polind.validation import check_number
 __all__ = ["Stepper", "Body"]
 
 _INF = math.inf
+# The relative error a Body's time step may take from the rounding of its absolute time.
+_STEP_TOLERANCE = 1e-6
+
+
+def _lost_step(time, time_step, step):
+    """The InputError of a time step that the body's absolute time rounds away."""
+    return InputError(f"The 'time_step' of Body ({time_step!r} s) is lost in its time "
+                      f"{time!r} s: a step there is {step!r} s in double precision; expected a "
+                      f"time step of at least {1e6 * math.ulp(time):.3g} s at that time, or a "
+                      f"state whose time starts nearer 0.")
 
 
 def check_model(model, owner):
@@ -338,6 +348,9 @@ class Body:
         self._time_step = time_step
         self._method = METHODS[method]
         self._start_time = start.time if state is not None else 0.0
+        step = (self._start_time + time_step) - self._start_time
+        if not abs(step - time_step) <= _STEP_TOLERANCE * time_step:
+            raise _lost_step(self._start_time, time_step, step)
         self._steps = 0
         self._memoryless = kernel.rest_capacity is not None
         self._rest_capacity = kernel.rest_capacity if self._memoryless else 0.0
@@ -392,6 +405,8 @@ class Body:
             self._last_load = load
         # The step from the sample times as simulate_system computes them.
         step = self._time_at(self._steps + 1) - self._time_at(self._steps)
+        if not abs(step - self._time_step) <= _STEP_TOLERANCE * self._time_step:
+            raise _lost_step(self._time_at(self._steps), self._time_step, step)
         kernel.advance_body(self._memoryless, self._rest_capacity, kernel.force_scale,
                             kernel.scalars, kernel.table, kernel.state, self._scratch,
                             self._method, self._mass, step, applied_force, self._body, load)

@@ -148,11 +148,14 @@ def virgin_curves(surface, normal_load=VIRGIN_LOAD, static_coefficient=VIRGIN_ST
 
     Returns
     -------
-    dict
-        ``displacement`` [m] (0 to 1.2 times the largest element slip
-        distance of the two), ``direct`` and ``statistical`` [N], the
-        ``normal_load`` used [N], and ``separation`` and ``real_area`` of the
-        direct contact [m, m^2].
+    dict or None
+        None when the summits carry no load above the lowest of them (one
+        summit, or all of one height: the flat cannot press on them without
+        passing below every one).  Else ``displacement`` [m] (0 to 1.2 times the largest element slip
+        distance of the two), ``direct`` and ``statistical`` [N] (None when
+        the summits are all of one height: the equivalent has no height
+        spread, so no statistical surface), the ``normal_load`` used [N], and
+        ``separation`` and ``real_area`` of the direct contact [m, m^2].
     """
     from polind.contact.elements import element_table
     from polind.contact.separation import solve_separation
@@ -160,21 +163,27 @@ def virgin_curves(surface, normal_load=VIRGIN_LOAD, static_coefficient=VIRGIN_ST
 
     E_star, G_star = _default_moduli() if moduli is None else moduli
     direct = DirectSurface.from_topography(surface, E_star, G_star)
+    if not direct.load_range[1] > 0.0:
+        return None
     load = min(float(normal_load), 0.5 * direct.load_range[1])
     gw = direct.greenwood_williamson
-    statistical = StatisticalSurface(gw["asperity_density"], gw["nominal_area"],
-                                     gw["asperity_radius"], gw["height_std"], E_star, G_star)
+    surfaces = [(direct, 0)]
+    if gw["height_std"] > 0.0:
+        surfaces.append((StatisticalSurface(gw["asperity_density"], gw["nominal_area"],
+                                            gw["asperity_radius"], gw["height_std"], E_star,
+                                            G_star), 256))
     tables = []
-    for each, elements in ((direct, 0), (statistical, 256)):
+    for each, elements in surfaces:
         d = solve_separation(each, load)
         tables.append((d, element_table(each, d, static_coefficient, elements or 64,
                                         normal_load=load)))
     reach = max(float(np.max(table.breakaway_force / table.stiffness)) for _, table in tables)
     u = np.linspace(0.0, 1.2 * reach, points)
-    (d_direct, direct_table), (_, gw_table) = tables
+    d_direct, direct_table = tables[0]
     return {"displacement": u, "direct": direct_table.virgin_force(u),
-            "statistical": gw_table.virgin_force(u), "normal_load": load,
-            "separation": float(d_direct), "real_area": float(direct.real_area(d_direct))}
+            "statistical": tables[1][1].virgin_force(u) if len(tables) > 1 else None,
+            "normal_load": load, "separation": float(d_direct),
+            "real_area": float(direct.real_area(d_direct))}
 
 
 def topography_figure(surface, effective_modulus=None):
@@ -343,7 +352,9 @@ def _draw_loads(axes, surface, effective_modulus):
     std = heights.std()
     relative = heights - mean
     top = np.sort(relative)[-2] if relative.size > 1 else relative[-1]
-    separations = np.linspace(-2.5 * std, max(top, 0.0) if std > 0 else top, 160)
+    # The summits' spread, or with summits of one height the map's: d runs below them all.
+    spread = std if std > 0 else surface.rms_height
+    separations = np.linspace(-2.5 * spread, max(top, 0.0) if std > 0 else top, 160)
     direct = direct_normal_load(relative, surface.summit_radii, separations, effective_modulus)
     one_radius = direct_normal_load(relative, np.full(relative.shape, surface.summit_radius_mean),
                                     separations, effective_modulus)
@@ -370,12 +381,19 @@ def _draw_virgin(axes, surface, effective_modulus):
     if effective_modulus != moduli[0]:
         moduli = (effective_modulus, moduli[1] * effective_modulus / moduli[0])
     curves = virgin_curves(surface, moduli=moduli)
+    if curves is None:
+        axes.text(0.5, 0.5, "no presliding curve: the summits carry no load above the lowest "
+                  "of them\n(the map has one summit, or all of one height)",
+                  ha="center", va="center", transform=axes.transAxes, fontsize=9)
+        axes.set(title="Presliding virgin curve", xticks=[], yticks=[])
+        return
     scale = VIRGIN_STATIC_COEFFICIENT * curves["normal_load"]
     u_nm = curves["displacement"] * 1e9
     axes.plot(u_nm, curves["direct"] / scale, color="#1f77b4", lw=2.0,
               label="direct summation over the measured summits")
-    axes.plot(u_nm, curves["statistical"] / scale, color="#d62728", lw=1.6, ls="--",
-              label="Greenwood–Williamson equivalent (256 elements)")
+    if curves["statistical"] is not None:
+        axes.plot(u_nm, curves["statistical"] / scale, color="#d62728", lw=1.6, ls="--",
+                  label="Greenwood–Williamson equivalent (256 elements)")
     axes.set(xlabel="tangential displacement from rest u [nm]", ylabel="F / (μs N)",
              ylim=(0.0, 1.05),
              title=f"Presliding virgin curve at N = {curves['normal_load']:.3g} N, "

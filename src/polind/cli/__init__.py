@@ -36,6 +36,7 @@ modules (numpy, the models, matplotlib) inside the function so that ``polind
 
 from __future__ import annotations
 
+import errno
 import os
 import sys
 import traceback
@@ -72,6 +73,10 @@ def _show_warning(message, category, filename, lineno, file=None, line=None):
     _report("warning", str(message))
 
 
+# The errors of a write to a full, failing or closed standard output.
+_UNWRITABLE = {errno.ENOSPC, errno.EIO, errno.EPIPE, errno.EDQUOT, errno.EFBIG}
+
+
 def _run(argv) -> int:
     """Run the command line; return the exit status."""
     try:
@@ -80,6 +85,7 @@ def _run(argv) -> int:
             warnings.simplefilter("default")
             warnings.showwarning = _show_warning
             status = cli.main(args=argv, prog_name=PROGRAM, standalone_mode=False)
+            sys.stdout.flush()
     except click.exceptions.NoArgsIsHelpError as exc:
         # A bare `polind` asks what it can do: the help, and success.
         click.echo(exc.format_message())
@@ -93,6 +99,14 @@ def _run(argv) -> int:
     except click.Abort:
         _report("error", "interrupted")
         return 130
+    except OSError as exc:
+        if exc.errno not in _UNWRITABLE:
+            _report("internal error", f"{type(exc).__name__}: {exc}")
+            return 1
+        # What the command prints found standard output full or gone (its files are
+        # written through polind.io, which names them): the user's device, not polind.
+        _report("error", f"standard output: cannot write: {exc.strerror or exc}")
+        return 2
     except Exception as exc:  # noqa: BLE001 - the last resort: exit 1 with one line
         _report("internal error", f"{type(exc).__name__}: {exc}")
         return 1

@@ -4,10 +4,12 @@
 ``--max-memory`` sets :func:`polind.resources.set_memory_limit` for the
 command); :func:`model_argument`, :func:`output_option` and
 :func:`file_path` declare the file parameters; :func:`load_model`,
-:func:`blame`, :func:`check_output_path` and :func:`refuse_overwriting_inputs`
-read and check the files; :func:`progress`, :func:`read_samples` and
-:func:`write_samples` show progress.  Only click and :mod:`polind.errors` are
-imported here: the heavy modules are imported inside the functions.
+:func:`blame`, :func:`model_inputs`, :func:`check_output_path` and
+:func:`refuse_overwriting_inputs` read and check the files (every file a command
+reads, directly or through a model, is an input no output may replace);
+:func:`progress`, :func:`read_samples` and :func:`write_samples` show progress.
+Only click and :mod:`polind.errors` are imported here: the heavy modules are
+imported inside the functions.
 """
 
 from __future__ import annotations
@@ -23,8 +25,8 @@ from polind import __version__
 from polind.errors import InputError
 
 __all__ = ["PROGRAM", "advancing", "blame", "check_output_path", "cli", "file_path",
-           "load_model", "model_argument", "output_option", "progress", "read_samples",
-           "refuse_overwriting_inputs", "write_samples"]
+           "load_model", "model_argument", "model_inputs", "output_option", "progress",
+           "read_samples", "refuse_overwriting_inputs", "write_samples"]
 
 #: The program's name: the group's, and the prefix of every message on standard error.
 PROGRAM = "polind"
@@ -93,6 +95,21 @@ def load_model(path):
         model = polind.load_model(path)
         model.step_kernel()
         return model
+
+
+def model_inputs(path) -> list:
+    """A model file and the files it names (summit heights, a height map): all inputs.
+
+    No output of a command may replace any of them.  A file that cannot be
+    read names only itself here: reading it for the model reports the problem.
+    """
+    from polind.models import document_files, read_model_document
+
+    try:
+        document = read_model_document(path)
+    except InputError:
+        return [path]
+    return [path, *document_files(document)]
 
 
 def check_output_path(path) -> None:

@@ -7,8 +7,9 @@ from pathlib import Path
 
 import click
 
-from polind.cli.common import (blame, cli, file_path, model_argument, output_option,
-                               progress, read_samples, refuse_overwriting_inputs)
+from polind.cli.common import (blame, cli, file_path, model_argument, model_inputs,
+                               output_option, progress, read_samples,
+                               refuse_overwriting_inputs)
 from polind.errors import InputError
 
 
@@ -54,7 +55,7 @@ def fit(model_path, data_path, output_path, plot_path, holdout, starts):
     from polind.models import read_model_document
 
     data_files = io.record_files(data_path)      # a data description names its file
-    refuse_overwriting_inputs([model_path, *data_files],
+    refuse_overwriting_inputs([*model_inputs(model_path), *data_files],
                               {"--output": output_path, "--plot": plot_path})
     with blame(model_path):
         document = read_model_document(model_path)
@@ -71,9 +72,11 @@ def fit(model_path, data_path, output_path, plot_path, holdout, starts):
             # The fit's warnings reach standard error as UserWarnings, one line each (main).
             result = identification.identify(model, data, free=free, bounds=bounds,
                                              holdout=holdout, starts=starts, callback=advance)
-    if plot_path is not None:
-        identification.plot_fit(data, result, plot_path)
-    io.write_model_file(output_path, result.to_document())
+    # The fitted model and its figure appear together, or neither does.
+    figure = None if plot_path is None else identification.plot_fit(data, result, None)
+    text = io.model_file_text(result.to_document(),
+                              as_json=Path(output_path).suffix.lower() == ".json")
+    io.write_together({output_path: text, plot_path: figure})
     # With an output on standard output ('-'), the readable text goes to standard error.
     streamed = io.STDOUT in (os.fspath(output_path), os.fspath(plot_path or ""))
     click.echo(result.summary(), err=streamed)
@@ -111,7 +114,8 @@ def compare(model_paths, data_path, holdout, output_path, plot_path, starts):
     from polind.models import read_model_document
 
     data_files = io.record_files(data_path)      # a data description names its file
-    refuse_overwriting_inputs([*model_paths, *data_files],
+    refuse_overwriting_inputs([*(path for model in model_paths for path in model_inputs(model)),
+                               *data_files],
                               {"--output": output_path, "--plot": plot_path})
     stems = [Path(path).stem for path in model_paths]
     documents = {}
@@ -137,10 +141,11 @@ def compare(model_paths, data_path, holdout, output_path, plot_path, starts):
     written = [os.fspath(path) for path in (output_path, plot_path) if path is not None]
     streamed = io.STDOUT in written
     click.echo(table.table(), err=streamed)
-    if output_path is not None:
-        io.atomic_write_text(output_path, table.to_csv())
-    if plot_path is not None:
-        table.plot(plot_path, title=f"{data_path}: measured and predicted friction force")
+    # The table and the figure appear together, or neither does.
+    figure = None if plot_path is None else table.plot(
+        None, title=f"{data_path}: measured and predicted friction force")
+    io.write_together({output_path: None if output_path is None else table.to_csv(),
+                       plot_path: figure})
     files = [path for path in written if path != io.STDOUT]
     if files:
         click.echo(f"wrote {' and '.join(files)}", err=streamed)

@@ -7,8 +7,9 @@ import os
 import click
 
 from polind.cli.common import (advancing, blame, check_output_path, cli, file_path,
-                               load_model, model_argument, output_option, progress,
-                               read_samples, refuse_overwriting_inputs, write_samples)
+                               load_model, model_argument, model_inputs, output_option,
+                               progress, read_samples, refuse_overwriting_inputs,
+                               write_samples)
 from polind.errors import InputError
 
 
@@ -33,7 +34,8 @@ def simulate(model_path, motion_path, output_path):
     from polind.simulation import BYTES_PER_SAMPLE
 
     motion_files = io.record_files(motion_path)  # a data description names its file
-    refuse_overwriting_inputs([model_path, *motion_files], {"--output": output_path})
+    refuse_overwriting_inputs([*model_inputs(model_path), *motion_files],
+                              {"--output": output_path})
     check_output_path(output_path)
     model = load_model(model_path)
     io.check_table_memory(motion_files[-1], BYTES_PER_SAMPLE, "simulating")
@@ -65,7 +67,8 @@ def dynamics(model_path, system_path, output_path):
     import polind
     from polind import io
 
-    refuse_overwriting_inputs([model_path, system_path], {"--output": output_path})
+    refuse_overwriting_inputs([*model_inputs(model_path), system_path],
+                              {"--output": output_path})
     check_output_path(output_path)
     model = load_model(model_path)
     with blame(system_path):

@@ -143,16 +143,23 @@ def topography(map_path, as_json, plot_path, pixel_size, short_cutoff, remove_ou
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")        # the map's warnings were issued above
             summary = surface.summary(effective_modulus=effective_modulus if hardness else None,
-                                      hardness=hardness)
+                                      hardness=hardness)     # every number checked finite
+    figure = None
     if plot_path is not None:
         from polind.topography_figure import figure_png
 
-        io.atomic_write_bytes(plot_path, figure_png(surface, effective_modulus))
+        figure = figure_png(surface, effective_modulus)
+    # What is printed goes first: a figure file appears only once it has (a file can be
+    # left unwritten, a stream cannot take back what it took).
     if as_json:
         click.echo(json.dumps(summary, allow_nan=False))
-        return
-    click.echo("\n".join(_topography_text(map_path, summary, plot_path, to_stdout)),
-               err=to_stdout)
+    else:
+        click.echo("\n".join(_topography_text(map_path, summary, None, to_stdout)),
+                   err=to_stdout)
+    if figure is not None:
+        io.atomic_write_bytes(plot_path, figure)
+        if not (to_stdout or as_json):
+            click.echo(f"\nwrote {plot_path}")
 
 
 def _topography_text(map_path, summary, plot_path, to_stdout) -> list:

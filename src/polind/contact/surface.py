@@ -41,17 +41,22 @@ from polind.errors import InputError, describe
 from polind.contact.plasticity import ElasticPlasticSums, direct_totals, statistical_totals
 from polind.contact.heights import read_summit_heights, sorted_heights, summit_groups
 from polind.kernels.greenwood import tail_moments
+from polind.resources import check_memory
 
 __all__ = [
     "StatisticalSurface",
     "DirectSurface",
     "read_summit_heights",
+    "BYTES_PER_ASPERITY",
     "MAX_SAMPLED_ASPERITIES",
 ]
 
 #: Largest seeded sample :meth:`DirectSurface.from_seed` draws (memory: 8
 #: bytes per summit, twice while sorting); beyond it use statistical summation.
 MAX_SAMPLED_ASPERITIES = 50_000_000
+#: What direct summation holds per summit at its peak [bytes]: heights, counts, weights,
+#: their sorted tail sums and the separation solve (40 measured at 4e6 summits).
+BYTES_PER_ASPERITY = 48
 
 
 class StatisticalSurface(ElasticPlasticSums):
@@ -320,6 +325,9 @@ class DirectSurface(ElasticPlasticSums):
                 f"The 'discretisation.seed' of pol-ind must be a non-negative integer. "
                 f"Got {describe(seed)}."
             )
+        check_memory(count * BYTES_PER_ASPERITY,
+                     f"Direct summation over {count:.3g} sampled summits ('surface.asperity_"
+                     f"density' x 'surface.nominal_area' of pol-ind)")
         rng = np.random.default_rng(int(seed))
         heights = height_std * rng.standard_normal(count)
         return cls(heights, asperity_radius, E_star, G_star)

@@ -192,13 +192,20 @@ class Comparison:
         figure.suptitle(title or "Measured and predicted friction force", fontsize=12)
         return figure
 
-    def plot(self, path, *, title=None, dpi=110) -> None:
-        """Write :meth:`figure` as a PNG (atomically: all of it or nothing)."""
+    def plot(self, path, *, title=None, dpi=110):
+        """Write :meth:`figure` as a PNG (atomically: all of it or nothing).
+
+        With ``path`` None, return the PNG's bytes instead (to be written
+        with a command's other outputs, :func:`polind.io.write_together`).
+        """
         from polind import io
 
         buffer = _text_io.BytesIO()
         self.figure(title=title).savefig(buffer, dpi=dpi, format="png")
+        if path is None:
+            return buffer.getvalue()
         io.atomic_write_bytes(path, buffer.getvalue())
+        return None
 
 
 def _labelled(models) -> list[tuple[str, object]]:

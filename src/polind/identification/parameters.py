@@ -306,7 +306,12 @@ def _pair(key: str, value) -> tuple[float, float]:
                                                               np.floating)) for b in value)):
         raise InputError(f"The bounds of '{key}' in [fit.bounds] must be a pair [low, high] of "
                          f"numbers. Got {describe(value)} instead.")
-    low, high = float(value[0]), float(value[1])
+    try:
+        low, high = float(value[0]), float(value[1])
+    except OverflowError:        # an integer beyond double precision (e.g. 400 digits)
+        raise InputError(f"The bounds of '{key}' in [fit.bounds] must be numbers of double "
+                         f"precision (below 1.8e308 in size). Got {describe(value)} "
+                         f"instead.") from None
     if math.isnan(low) or math.isnan(high):
         raise InputError(f"The bounds of '{key}' in [fit.bounds] must be numbers, not NaN. "
                          f"Got {describe(value)} instead.")

@@ -47,7 +47,7 @@ def _held_out_start(result: FitResult | None, samples: int) -> int | None:
     return result.fitted_samples
 
 
-def plot_fit(data, results, path, *, window=None, title=None, dpi=120) -> None:
+def plot_fit(data, results, path, *, window=None, title=None, dpi=120):
     """Write a PNG of measured against fitted force (``polind fit --plot FILE``).
 
     Three panels: force over the whole record, force over a time window (a
@@ -66,13 +66,19 @@ def plot_fit(data, results, path, *, window=None, title=None, dpi=120) -> None:
         take one (pol-ind) only.
     results : FitResult, FrictionModel, a sequence of them, or a mapping label -> one
         The fitted models (labelled by model type unless a mapping is given).
-    path : str or os.PathLike
-        The PNG to write.
+    path : str, os.PathLike or None
+        The PNG to write (atomically); None returns its bytes instead, to be
+        written with a command's other outputs (:func:`polind.io.write_together`).
     window : (float, float), optional
         Start and end [s] of the middle panel; default a tenth of the record
         around its middle.
     title : str, optional
     dpi : int
+
+    Returns
+    -------
+    bytes or None
+        The PNG when ``path`` is None.
     """
     from io import BytesIO
 
@@ -125,4 +131,7 @@ def plot_fit(data, results, path, *, window=None, title=None, dpi=120) -> None:
     against_x.legend(loc="best", fontsize=8)
     buffer = BytesIO()
     figure.savefig(buffer, dpi=dpi, format="png")
+    if path is None:
+        return buffer.getvalue()
     io.atomic_write_bytes(path, buffer.getvalue())      # the output rules of every command
+    return None

@@ -43,6 +43,7 @@ The package, a module per idea (every name below is importable from
     tables        reading tables: CSV (fast and careful readers) and Parquet
     records       an instrument's record through its data description, in SI units
     output        the one safe writer (atomic_open) and the output checks
+    locking       one writer at a time for an output written over a long run
     table_output  writing tables: CSV to the bit, Parquet
 """
 
@@ -64,12 +65,14 @@ from polind.io.records import (
     read_record,
     record_files,
 )
+from polind.io.locking import lock_path, writer_lock
 from polind.io.output import (
     STDOUT,
     atomic_open,
     atomic_write_bytes,
     atomic_write_text,
     check_output_path,
+    write_together,
 )
 from polind.io.sizing import check_table_memory, table_size
 from polind.io.table_output import number_text, write_csv_atomic, write_parquet_atomic
@@ -112,6 +115,10 @@ __all__ = [
     "atomic_write_bytes",
     "atomic_write_text",
     "check_output_path",
+    "write_together",
+    # locking: one writer at a time
+    "lock_path",
+    "writer_lock",
     # table_output: writing tables
     "number_text",
     "write_csv_atomic",

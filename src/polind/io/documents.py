@@ -47,26 +47,54 @@ def _reject_duplicate_keys(pairs):
     return table
 
 
+#: The deepest nesting of tables and lists a document may have (polind's files need 4).
+MAX_NESTING = 32
+
+
+def _nesting(value, depth=0) -> int:
+    """How deeply tables and lists nest in a parsed document (stops past MAX_NESTING)."""
+    if depth > MAX_NESTING or not isinstance(value, (dict, list)):
+        return depth
+    items = value.values() if isinstance(value, dict) else value
+    return max((_nesting(item, depth + 1) for item in items), default=depth + 1)
+
+
 def read_document(path) -> dict:
-    """Parse a TOML or JSON file (JSON if the name ends in ``.json``) into a dict."""
+    """Parse a TOML or JSON file (JSON if the name ends in ``.json``) into a dict.
+
+    A document nested more than ``MAX_NESTING`` tables and lists deep
+    is refused (a parser would run out of stack on a deep enough one), as is
+    an integer of more digits than Python converts (4300).
+    """
     name = os.fspath(path)
     text = read_text(path)
+    nested = InputError(f"{name}: tables and lists nest too deeply; expected a document "
+                        f"nested at most {MAX_NESTING} levels deep")
     if Path(path).suffix.lower() == ".json":
         try:
             document = json.loads(text, object_pairs_hook=_reject_duplicate_keys)
         except json.JSONDecodeError as exc:
             raise InputError(f"{name}: not valid JSON: {exc.msg} "
                              f"(at line {exc.lineno}, column {exc.colno})") from None
-        except ValueError as exc:  # a duplicated key
+        except ValueError as exc:  # a duplicated key, an integer of too many digits
             raise InputError(f"{name}: not valid JSON: {exc}") from None
+        except RecursionError:
+            raise nested from None
         if not isinstance(document, dict):
             raise InputError(f"{name}: expected a JSON object at the top level, "
                              f"got {type(document).__name__}")
-        return document
-    try:
-        return tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"{name}: not valid TOML: {exc}") from None
+    else:
+        try:
+            document = tomllib.loads(text)
+        except tomllib.TOMLDecodeError as exc:
+            raise InputError(f"{name}: not valid TOML: {exc}") from None
+        except ValueError as exc:  # an integer of too many digits
+            raise InputError(f"{name}: not valid TOML: {exc}") from None
+        except RecursionError:
+            raise nested from None
+    if _nesting(document) > MAX_NESTING:
+        raise nested
+    return document
 
 
 def check_tables(name, document, required, allowed):

@@ -20,7 +20,7 @@ import tempfile
 from polind.errors import InputError
 
 __all__ = ["STDOUT", "atomic_open", "atomic_write_bytes", "atomic_write_text",
-           "check_output_path"]
+           "check_output_path", "write_together"]
 
 
 #: The output name that means standard output.
@@ -112,6 +112,72 @@ def _removing_on_signals():
             signal.signal(getattr(signal, name), handler)
 
 
+def _cannot_write(name, error) -> InputError:
+    """The one-line refusal of an output that could not be written (an OSError)."""
+    where = "standard output" if name == STDOUT else name
+    return InputError(f"{where}: cannot write: {error.strerror or error}")
+
+
+def _is_stream(name) -> bool:
+    """Standard output, or an existing FIFO or device: written to directly, never replaced."""
+    if name == STDOUT:
+        return True
+    target = os.path.realpath(name)
+    return os.path.exists(target) and not os.path.isfile(target)
+
+
+@contextlib.contextmanager
+def _stream_open(name, binary):
+    """Standard output or an existing FIFO or device, its write errors an InputError."""
+    try:
+        if name == STDOUT:
+            import sys
+
+            stream = sys.stdout.buffer if binary else sys.stdout
+            yield stream
+            stream.flush()
+            return
+        with open(os.path.realpath(name), "wb" if binary else "w",
+                  **({} if binary else {"encoding": "utf-8", "newline": "\n"})) as stream:
+            yield stream
+    except OSError as exc:
+        raise _cannot_write(name, exc) from None
+
+
+@contextlib.contextmanager
+def _temporary_beside(name, binary=True, replace=True):
+    """Yield ``(stream, path)`` of a temporary file beside the output ``name`` (a link's target).
+
+    At the end of the block its whole content is flushed to disk, it gets the
+    output's permissions and, with ``replace``, it replaces the output.  Any
+    failure removes it (an OSError becomes an InputError naming the output).
+    """
+    target = os.path.realpath(name)
+    try:
+        handle, temporary = tempfile.mkstemp(dir=os.path.dirname(target), suffix=".tmp",
+                                             prefix=f".{os.path.basename(target)}.")
+    except OSError as exc:
+        raise _cannot_write(name, exc) from None
+    try:
+        if binary:
+            stream = os.fdopen(handle, "wb")
+        else:
+            stream = os.fdopen(handle, "w", encoding="utf-8", newline="\n")
+        with stream:
+            yield stream, temporary
+            stream.flush()
+            os.fsync(stream.fileno())
+        os.chmod(temporary, _new_file_mode(target))
+        if replace:
+            os.replace(temporary, target)
+    except BaseException as exc:
+        with contextlib.suppress(OSError):
+            os.unlink(temporary)
+        if isinstance(exc, OSError):
+            raise _cannot_write(name, exc) from exc
+        raise
+
+
 @contextlib.contextmanager
 def atomic_open(path, binary=False):
     """Yield a stream for the output ``path``; a regular file appears only on success.
@@ -122,50 +188,18 @@ def atomic_open(path, binary=False):
     * Otherwise a temporary file beside the target (a symlink's target: the
       link stays a link) that replaces it only once the whole content is on
       disk; any failure, Ctrl-C, SIGTERM or SIGHUP removes it.
+
+    A failed write (a full disk or device, a closed standard output) is an
+    :class:`~polind.errors.InputError` naming the output.
     """
     name = os.fspath(path)
     check_output_path(name)
-    if name == STDOUT:
-        import sys
-
-        stream = sys.stdout.buffer if binary else sys.stdout
-        yield stream
-        stream.flush()
-        return
-    target = os.path.realpath(name)
-    if os.path.exists(target) and not os.path.isfile(target):
-        try:
-            stream = open(target, "wb" if binary else "w",
-                          **({} if binary else {"encoding": "utf-8", "newline": "\n"}))
-        except OSError as exc:
-            raise InputError(f"{name}: cannot write: {exc.strerror or exc}") from None
-        with stream:
+    if _is_stream(name):
+        with _stream_open(name, binary) as stream:
             yield stream
         return
-    folder = os.path.dirname(target)
-    with _removing_on_signals():
-        try:
-            handle, temporary = tempfile.mkstemp(dir=folder, suffix=".tmp",
-                                                 prefix=f".{os.path.basename(target)}.")
-        except OSError as exc:
-            raise InputError(f"{name}: cannot write: {exc.strerror or exc}") from None
-        try:
-            if binary:
-                stream = os.fdopen(handle, "wb")
-            else:
-                stream = os.fdopen(handle, "w", encoding="utf-8", newline="\n")
-            with stream:
-                yield stream
-                stream.flush()
-                os.fsync(stream.fileno())
-            os.chmod(temporary, _new_file_mode(target))
-            os.replace(temporary, target)
-        except BaseException as exc:
-            with contextlib.suppress(OSError):
-                os.unlink(temporary)
-            if isinstance(exc, OSError):
-                raise InputError(f"{name}: cannot write: {exc.strerror or exc}") from exc
-            raise
+    with _removing_on_signals(), _temporary_beside(name, binary) as (stream, _):
+        yield stream
 
 
 def atomic_write_bytes(path, data: bytes) -> None:
@@ -178,3 +212,92 @@ def atomic_write_text(path, text: str) -> None:
     """Write ``text`` (UTF-8, ``\\n`` newlines) to ``path`` atomically."""
     with atomic_open(path) as stream:
         stream.write(text)
+
+
+def write_together(outputs) -> None:
+    """Write the outputs of one command: all of them, or none changes.
+
+    Parameters
+    ----------
+    outputs : mapping of path to bytes or str
+        Each output (``-`` standard output, a FIFO or device, or a file) and
+        its whole content (a ``str`` is written as UTF-8); a path that is
+        None is skipped.
+
+    Every file's content is first put on disk beside it; then the streams
+    (standard output, devices) are written; then the files replace their
+    targets.  A failure at any point (a full disk or device, Ctrl-C,
+    SIGTERM, SIGHUP) removes the temporary files and puts back the files
+    already replaced, so that no output of a failed command appears and no
+    existing file changes; it is an :class:`~polind.errors.InputError`
+    naming the output.  What a stream took cannot be taken back: streams
+    are written last but one, just before the files appear.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> write_together({folder / "a.csv": "t\\n0\\n", folder / "a.png": b"PNG"})
+    >>> sorted(path.name for path in folder.iterdir())
+    ['a.csv', 'a.png']
+    """
+    items = [(os.fspath(path), data.encode("utf-8") if isinstance(data, str) else bytes(data))
+             for path, data in dict(outputs).items() if path is not None]
+    for name, _ in items:
+        check_output_path(name)
+    staged, replaced = [], []
+    with _removing_on_signals():
+        try:
+            for name, data in items:
+                if not _is_stream(name):
+                    with _temporary_beside(name, replace=False) as (stream, temporary):
+                        stream.write(data)
+                    staged.append((name, temporary))
+            for name, data in items:
+                if _is_stream(name):
+                    with _stream_open(name, binary=True) as stream:
+                        stream.write(data)
+            for name, temporary in staged:
+                target = os.path.realpath(name)
+                backup = _keep_aside(target)
+                try:
+                    os.replace(temporary, target)
+                except OSError as exc:
+                    if backup is not None:
+                        os.unlink(backup)
+                    raise _cannot_write(name, exc) from None
+                replaced.append((target, backup))
+        except BaseException:
+            for target, backup in reversed(replaced):
+                with contextlib.suppress(OSError):
+                    if backup is None:
+                        os.unlink(target)
+                    else:
+                        os.replace(backup, target)
+            replaced = []
+            raise
+        finally:
+            for _, temporary in staged:
+                with contextlib.suppress(OSError):
+                    os.unlink(temporary)
+            for _, backup in replaced:
+                if backup is not None:
+                    with contextlib.suppress(OSError):
+                        os.unlink(backup)
+
+
+def _keep_aside(target):
+    """A hard link to an existing ``target`` (to put it back), or None when there is none."""
+    if not os.path.exists(target):
+        return None
+    folder, base = os.path.split(target)
+    for attempt in range(100):
+        backup = os.path.join(folder, f".{base}.{os.getpid()}.{attempt}.kept.tmp")
+        try:
+            os.link(target, backup)
+            return backup
+        except FileExistsError:
+            continue
+        except OSError:
+            return None             # no hard links here: the old file cannot be put back
+    return None

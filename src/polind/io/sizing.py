@@ -19,8 +19,8 @@ import stat
 from polind.io.columns import is_parquet
 from polind.resources import check_memory
 
-__all__ = ["DELIMITERS", "HEADER_BYTES", "check_table_memory", "guess_delimiter", "header_line",
-           "table_size"]
+__all__ = ["DELIMITERS", "HEADER_BYTES", "READ_BYTES_PER_NUMBER", "SAMPLES",
+           "check_table_memory", "guess_delimiter", "header_line", "table_size"]
 
 
 #: A CSV file's header must lie in its first bytes, for its size and for the fast reader.
@@ -81,7 +81,7 @@ def guess_delimiter(header: str) -> str:
 # Memory of reading a table [bytes]: the fast readers' peak per number (pyarrow's table and
 # the NumPy columns side by side; 48 bytes a row measured for t,x at 1e7 rows).  Python's
 # row-by-row reader, for a file the fast reader refuses, is checked by polind.io.tables.
-_READ_BYTES_PER_NUMBER = 24
+READ_BYTES_PER_NUMBER = 24
 
 
 def table_size(path) -> tuple[int, int, bool]:
@@ -89,9 +89,11 @@ def table_size(path) -> tuple[int, int, bool]:
 
     A Parquet file's metadata gives them exactly.  A CSV file's columns are
     those of its header, and its data rows are counted in a file of 64 KiB or
-    less; a bigger one's are its size over the mean length of the rows in
-    its first 64 KiB (``exact`` False).  A file that cannot be read gives
-    ``(0, 0, True)``: its reader names the problem.
+    less; a bigger one's are its size over the shortest mean length of the
+    rows in its first 64 KiB and in ``SAMPLES`` stretches spread over
+    the rest of it (``exact`` False), so that long rows at its start do not
+    hide short ones after.  A file that cannot be read gives ``(0, 0, True)``:
+    its reader names the problem.
     """
     name = os.fspath(path)
     if is_parquet(name):
@@ -108,21 +110,52 @@ def table_size(path) -> tuple[int, int, bool]:
         with open(name, "rb") as stream:
             size = os.fstat(stream.fileno()).st_size
             prefix = stream.read(HEADER_BYTES)
+            header = header_line(prefix)
+            if header is None:
+                return 0, 0, True
+            stretches = [] if len(prefix) == size else \
+                _stretches(stream, header[2], size)
     except OSError:
-        return 0, 0, True
-    header = header_line(prefix)
-    if header is None:
         return 0, 0, True
     _, text, offset = header
     columns = text.count(guess_delimiter(text)) + 1
     body = prefix[offset:].replace(b"\r\n", b"\n").replace(b"\r", b"\n")
     if len(prefix) == size:
         return sum(1 for line in body.split(b"\n") if line.strip()), columns, True
-    complete = body[:body.rfind(b"\n") + 1]
-    rows = sum(1 for line in complete.split(b"\n") if line.strip())
     # The shortest row is a digit and a comma per column: never fewer rows than that allows.
-    mean = len(complete) / rows if rows else 2.0 * columns
+    mean = min([_mean_row(body), *(_mean_row(stretch) for stretch in stretches)],
+               default=None) or 2.0 * columns
     return math.ceil((size - offset) / mean), columns, False
+
+
+#: Stretches of a big CSV file, spread over it, whose rows size it (with its first 64 KiB).
+SAMPLES = 16
+_STRETCH_BYTES = 1 << 12
+
+
+def _stretches(stream, offset, size) -> list[bytes]:
+    """``SAMPLES`` stretches of a file's bytes after ``offset``, evenly spread over it."""
+    out = []
+    span = max(size - offset - _STRETCH_BYTES, 0)
+    for index in range(1, SAMPLES + 1):
+        stream.seek(offset + span * index // SAMPLES)
+        out.append(stream.read(_STRETCH_BYTES))
+    return out
+
+
+def _mean_row(data: bytes):
+    """The mean length [bytes] of the complete rows in a stretch of a file, or None if none.
+
+    A stretch may start in the middle of a row: only the rows after its first
+    line end and up to its last count.
+    """
+    data = data.replace(b"\r\n", b"\n").replace(b"\r", b"\n")
+    start, end = data.find(b"\n") + 1, data.rfind(b"\n") + 1
+    if start <= 0 or end <= start:
+        return None
+    lines = data[start:end].split(b"\n")
+    rows = sum(1 for line in lines if line.strip())
+    return (end - start) / rows if rows else None
 
 
 def check_table_memory(path, bytes_per_row=0.0, use="reading") -> None:
@@ -130,14 +163,14 @@ def check_table_memory(path, bytes_per_row=0.0, use="reading") -> None:
 
     The estimate, made before anything is read: the rows of
     :func:`table_size` times the fast reader's peak per row
-    (``_READ_BYTES_PER_NUMBER`` a number) and ``bytes_per_row`` that the
+    (``READ_BYTES_PER_NUMBER`` a number) and ``bytes_per_row`` that the
     caller's run holds per row besides.  ``use`` names the run in the
     message (``"simulating"``...).  The limit is
     :func:`polind.resources.memory_limit` (``--max-memory``).
     """
     name = os.fspath(path)
     rows, columns, exact = table_size(name)
-    check_memory(rows * (_READ_BYTES_PER_NUMBER * columns + bytes_per_row),
+    check_memory(rows * (READ_BYTES_PER_NUMBER * columns + bytes_per_row),
                  f"{name}: {use} its {rows:.3g} rows of {columns} column"
                  f"{'s' if columns != 1 else ''}"
                  f"{'' if exact else ' (estimated from the size of the file)'}")

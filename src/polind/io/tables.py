@@ -39,7 +39,8 @@ from polind.io.columns import (
     expected_columns,
     is_parquet,
 )
-from polind.io.sizing import HEADER_BYTES, check_table_memory, guess_delimiter, header_line
+from polind.io.sizing import (HEADER_BYTES, READ_BYTES_PER_NUMBER, check_table_memory,
+                               guess_delimiter, header_line)
 from polind.io.text import read_text
 from polind.resources import check_memory
 
@@ -180,10 +181,19 @@ def _read_csv_fast(name, select, delimiter=",", progress=None):
                     column_types={column: float64 for column in kept}, include_columns=kept,
                     null_values=[], strings_can_be_null=False,
                     quoted_strings_can_be_null=False))
+            rows = 0
             for batch in reader:
                 batches.append(batch)
+                rows += batch.num_rows
+                # The rows were counted from samples of the file before reading: a file
+                # whose sampled rows were longer than the rest is stopped at the limit.
+                check_memory(rows * READ_BYTES_PER_NUMBER * len(columns),
+                             f"{name}: reading more than {rows:.3g} rows of {len(columns)} "
+                             f"columns")
                 if progress is not None:
                     progress(min(source.tell(), size), size)
+    except InputError:
+        raise
     except (pa.ArrowException, OSError, ValueError):
         return None
     if not batches or sum(batch.num_rows for batch in batches) == 0:

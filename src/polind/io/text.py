@@ -14,20 +14,27 @@ from pathlib import Path
 
 from polind.errors import InputError
 
-__all__ = ["read_text"]
+__all__ = ["read_bytes", "read_text"]
+
+
+def read_bytes(path, expected="a file") -> bytes:
+    """The file's bytes; an InputError naming it and what was ``expected`` if it cannot be read."""
+    name = os.fspath(path)
+    try:
+        return Path(path).read_bytes()
+    except FileNotFoundError:
+        where = "" if expected == "a file" else f"; expected {expected}"
+        raise InputError(f"{name}: no such file{where}") from None
+    except IsADirectoryError:
+        raise InputError(f"{name}: is a directory; expected {expected}") from None
+    except OSError as exc:
+        raise InputError(f"{name}: cannot read the file: {exc.strerror or exc}") from None
 
 
 def read_text(path) -> str:
     """The file's text (UTF-8, a byte-order mark dropped, newlines as ``\\n``)."""
     name = os.fspath(path)
-    try:
-        data = Path(path).read_bytes()
-    except FileNotFoundError:
-        raise InputError(f"{name}: no such file") from None
-    except IsADirectoryError:
-        raise InputError(f"{name}: is a directory; expected a file") from None
-    except OSError as exc:
-        raise InputError(f"{name}: cannot read the file: {exc.strerror or exc}") from None
+    data = read_bytes(path)
     try:
         text = data.decode("utf-8-sig")
     except UnicodeDecodeError as exc:

@@ -57,6 +57,21 @@ def model_from_dict(document: dict) -> FrictionModel:
     return cls(**params)
 
 
+def _document_class(document):
+    """The registered class of a model document's type, or None (left for model_from_dict)."""
+    table = document.get("model") if isinstance(document, dict) else None
+    model_type = table.get("type") if isinstance(table, dict) else None
+    if not isinstance(model_type, str):
+        return None
+    cls = MODEL_TYPES.get(model_type)
+    if cls is None:
+        try:
+            cls = model_class(model_type)          # an installed plugin's type
+        except _InputError:
+            cls = None
+    return cls
+
+
 def read_model_document(path) -> dict:
     """Read a model file (TOML or JSON) as a document, its files made absolute.
 
@@ -71,19 +86,29 @@ def read_model_document(path) -> dict:
     from polind import io
 
     document = io.read_model_file(path)
-    model_type = document["model"].get("type")
-    cls = MODEL_TYPES.get(model_type) if isinstance(model_type, str) else None
-    if cls is None and isinstance(model_type, str):
-        try:
-            cls = model_class(model_type)          # an installed plugin's type
-        except _InputError:
-            cls = None
+    cls = _document_class(document)
     if cls is not None:
         folder = os.path.dirname(os.path.abspath(os.fspath(path)))
         for entries, key, value in cls.files_in(document["model"]):
             if not os.path.isabs(value):
                 entries[key] = os.path.normpath(os.path.join(folder, value))
     return document
+
+
+def document_files(document) -> list:
+    """The files a model document names (:meth:`~polind.FrictionModel.files_in` of its type).
+
+    As written in the document: absolute once read by :func:`read_model_document`.
+    A document of an unknown type names none (building it is refused).
+
+    Examples
+    --------
+    >>> document_files({"model": {"type": "pol-ind",
+    ...                            "discretisation": {"heights_file": "/data/h.csv"}}})
+    ['/data/h.csv']
+    """
+    cls = _document_class(document)
+    return [] if cls is None else [value for _, _, value in cls.files_in(document["model"])]
 
 
 def load_model(path) -> FrictionModel:
@@ -98,4 +123,4 @@ def load_model(path) -> FrictionModel:
         raise _InputError(f"{path}: {error}") from None
 
 
-__all__ += ["model_from_dict", "load_model", "read_model_document"]
+__all__ += ["model_from_dict", "load_model", "read_model_document", "document_files"]

@@ -19,14 +19,21 @@ from typing import ClassVar
 import numpy as np
 
 from polind.errors import InputError
+from polind.models.checks import call_declared, check_scales, check_sizes, check_step_parts
 from polind.models.kernel import (SCALARS_OFFSET, STATE_OFFSET, TABLE_OFFSET, StepFunctions,
                                   StepKernel, page_placed)
 from polind.models.registry import MODEL_TYPES, register_model
 from polind.models.params import Param, Table, validate_table
 from polind.models.state import Path, State
 
-#: polind's own models register with the same function, as a class decorator.
-register = register_model
+
+def register(cls):
+    """polind's own models register with :func:`register_model`, as a class decorator.
+
+    Without calling their methods at import (that would load numba): the
+    conformance tests hold polind's own models to the contract.
+    """
+    return register_model(cls, check=False)
 
 
 def scales(static_force, coulomb_force, viscous_coefficient=0.0, curve=None,
@@ -434,9 +441,29 @@ class FrictionModel:
 
     # --- the stepping contract, built from the above -------------------------------------
 
+    def check_numbers(self) -> None:
+        """Finite or refused: numbers its arithmetic can take, else an InputError naming them.
+
+        Every float parameter is 0 or of a physical size and the
+        characteristic scales are finite and normal, their force levels
+        resolved (:mod:`polind.models.checks`).  Checked once per model,
+        before its first state or kernel is built.
+        """
+        if self.__dict__.get("_numbers_checked"):
+            return
+        check_sizes(self.type, self.parameters, self._params)
+        check_scales(self.type, call_declared(self, "characteristic_scales"))
+        self._numbers_checked = True
+
     def initial_state(self, normal_load=None) -> State:
         """The state at rest before any motion (all internal variables zero)."""
-        return State(self.type, variables=self.initial_variables(normal_load))
+        self.check_numbers()
+        variables = call_declared(self, "initial_variables", normal_load)
+        try:
+            return State(self.type, variables=variables)
+        except InputError as error:
+            raise InputError(f"The model class {type(self).__name__}'s initial_variables() "
+                             f"must give a dict of finite arrays: {error}") from None
 
     def _state_keys(self) -> tuple:
         if self.state_keys is not None:
@@ -444,17 +471,18 @@ class FrictionModel:
         return tuple(self.initial_variables(None))
 
     def check_state(self, state: State) -> None:
-        """A state must belong to this model and have its shapes."""
+        """A state must belong to this model, have its shapes and hold finite numbers."""
         if state.model_type != self.type:
             raise InputError(f"The state is of a '{state.model_type}' model but the model is "
                              f"'{self.type}'.")
+        state.check_finite()
         expected = self.initial_variables(None)
         for key, value in expected.items():
             if key not in state.variables:
                 raise InputError(f"The state lacks its '{key}' entry for a {self.type} model.")
-            if state.variables[key].shape != np.shape(value):
-                raise InputError(f"The state's '{key}' has {state.variables[key].size} entries; "
-                                 f"the {self.type} model has {np.size(value)}.")
+            if np.shape(state.variables[key]) != np.shape(value):
+                raise InputError(f"The state's '{key}' has {np.size(state.variables[key])} "
+                                 f"entries; the {self.type} model has {np.size(value)}.")
 
     def flat_state(self, state: State) -> np.ndarray:
         """The state's variables as one float64 array, in ``state_keys`` order."""
@@ -491,17 +519,15 @@ class FrictionModel:
         StepKernel
             Its ``state`` array is a copy: stepping it leaves ``state`` as it was.
         """
+        self.check_numbers()
         if state is None:
             state = self.initial_state(normal_load)
         else:
             self.check_state(state)
-        functions = self.step_functions()
-        scalars, table = self.kernel_arrays(state)
-        for name, values in (("scalars", scalars), ("table", table)):
-            if np.isnan(np.asarray(values, dtype=np.float64)).any():
-                raise InputError(f"The {self.type} model's parameters give NaN in its kernel "
-                                 f"{name} (a value too large or too small for double "
-                                 f"precision?); expected parameters of a physical size.")
+        functions = call_declared(self, "step_functions")
+        arrays = call_declared(self, "kernel_arrays", state)
+        check_step_parts(self, functions, arrays, state.variables)
+        scalars, table = arrays
         if varying_load is None:
             varying_load = normal_load is not None
         mount = self.mount_array(state, varying_load)

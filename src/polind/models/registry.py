@@ -28,7 +28,7 @@ _LOCK = threading.RLock()
 MODEL_TYPES = MappingProxyType(_REGISTRY)
 
 
-def register_model(cls, *, replace=False):
+def register_model(cls, *, replace=False, check=True):
     """Make a :class:`~polind.FrictionModel` subclass usable everywhere under its ``type``.
 
     After ``polind.register_model(MyModel)`` the type can be named in model
@@ -40,6 +40,16 @@ def register_model(cls, *, replace=False):
     pass ``replace=True`` to redefine one of your own) and supply
     ``step_functions`` and ``kernel_arrays``.  Returns the class, so it can
     be used as a decorator.
+
+    With ``check`` (the default), what can be called on the class is called
+    now: its ``example_parameters()`` (when it defines them) build a model
+    whose ``initial_variables()``, ``characteristic_scales()``,
+    ``step_functions()`` and ``kernel_arrays()`` must give what the stepping
+    contract takes, so that a wrong declaration (``step_functions()``
+    returning a tuple, say) is an :class:`~polind.InputError` naming the
+    method here rather than a failure inside a run.  A class without example
+    parameters is checked the same way when a model of it is first stepped.
+    polind's own models register without it (at import, numba unloaded).
     """
     from polind.models.base import FrictionModel
 
@@ -54,12 +64,46 @@ def register_model(cls, *, replace=False):
         if getattr(cls, method) is getattr(FrictionModel, method):
             raise InputError(f"The model class {cls.__name__} must define {method}() "
                              f"(see polind.FrictionModel).")
+    _refuse_taken(name, cls, replace)
+    if check:
+        _check_declarations(cls)
+    with _LOCK:
+        _refuse_taken(name, cls, replace)       # again: registered meanwhile?
+        _REGISTRY[name] = cls
+    return cls
+
+
+def _refuse_taken(name, cls, replace) -> None:
     with _LOCK:
         if name in _REGISTRY and _REGISTRY[name] is not cls and not replace:
             raise InputError(f"The model type '{name}' is already registered (by "
                              f"{_REGISTRY[name].__name__}); choose another name.")
-        _REGISTRY[name] = cls
-    return cls
+
+
+def _check_declarations(cls) -> None:
+    """Call what can be called on a model class; an InputError names a method that is wrong."""
+    from polind.models.base import FrictionModel
+    from polind.models.checks import call_declared
+
+    if not isinstance(getattr(cls, "parameters", None), tuple):
+        raise InputError(f"The model class {cls.__name__} must declare 'parameters' as a tuple "
+                         f"of polind Param and Table entries. Got "
+                         f"{describe(getattr(cls, 'parameters', None))} instead.")
+    if cls.example_parameters.__func__ is FrictionModel.example_parameters.__func__:
+        return                          # nothing to build a model from: checked when stepped
+    parameters = call_declared(cls, "example_parameters")
+    if not isinstance(parameters, dict):
+        raise InputError(f"The model class {cls.__name__}'s example_parameters() must return a "
+                         f"dict of parameters. Got {describe(parameters)} instead.")
+    try:
+        model = cls(**parameters)
+    except InputError as error:
+        raise InputError(f"The model class {cls.__name__}'s example_parameters() give a model "
+                         f"it refuses: {error}") from None
+    except Exception as error:  # noqa: BLE001 - the class's own code
+        raise InputError(f"The model class {cls.__name__} cannot be built from its "
+                         f"example_parameters(): {type(error).__name__}: {error}") from None
+    call_declared(model, "step_kernel")
 
 
 def unregister_model(model_type: str) -> type:

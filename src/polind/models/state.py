@@ -53,6 +53,34 @@ class State:
 
     _SCALARS: ClassVar[tuple] = ("time", "position", "velocity", "force")
 
+    def __post_init__(self):
+        self.check_finite()
+
+    def check_finite(self) -> None:
+        """Refuse (InputError) a state whose numbers are not all finite, naming the entry.
+
+        Checked when a state is built and again when a model is given one
+        (:meth:`polind.FrictionModel.check_state`): its variables may have
+        been changed in between.
+        """
+        for key in self._SCALARS:
+            value = getattr(self, key)
+            if not (isinstance(value, (int, float, np.integer, np.floating))
+                    and not isinstance(value, bool) and _finite_float(value)):
+                raise InputError(f"The '{key}' of a State must be a finite number. Got "
+                                 f"{describe(value)} instead.")
+        if not isinstance(self.variables, dict):
+            raise InputError(f"The variables of a State must be a dict of arrays. Got "
+                             f"{describe(self.variables)} instead.")
+        for key, value in self.variables.items():
+            try:
+                finite = bool(np.isfinite(np.asarray(value, dtype=np.float64)).all())
+            except (TypeError, ValueError, OverflowError):
+                finite = False
+            if not finite:
+                raise InputError(f"The '{key}' variable of a State must hold finite numbers. "
+                                 f"Got {describe(value)} instead.")
+
     def copy(self) -> "State":
         """A deep copy (the variables' arrays copied too)."""
         return State(self.model_type, self.time, self.position, self.velocity, self.force,

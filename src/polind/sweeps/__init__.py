@@ -32,6 +32,8 @@ The modules, one idea each:
   (:func:`read_results`);
 - :mod:`polind.sweeps.engine`: the local and Dask engines and :func:`sweep`,
   which runs a sweep on one;
+- :mod:`polind.sweeps.cluster`: the runs on a Dask cluster, its address
+  checked before a client connects;
 - :mod:`polind.sweeps.plot`: the figure (:func:`plot_results`).
 
 ``polind.sweep`` is the function :func:`sweep`; this package is ``polind.sweeps``.

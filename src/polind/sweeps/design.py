@@ -35,7 +35,8 @@ from polind.models.params import Table
 from polind.sweeps.metrics import METRICS, NEEDS
 from polind.sweeps.runs import RunPlan
 
-__all__ = ["METHODS", "SWEEP_KEYS", "SYSTEM_KEYS", "Axis", "Sweep", "is_number", "load_sweep"]
+__all__ = ["METHODS", "SWEEP_KEYS", "SYSTEM_KEYS", "Axis", "Sweep", "is_finite", "is_number",
+           "is_whole", "load_sweep"]
 
 #: The designs of a sweep (``sweep.method``).
 METHODS = ("grid", "latin-hypercube", "random")
@@ -74,20 +75,32 @@ class Axis:
         """How many values the axis has on a grid (None: a range without ``count``)."""
         return len(self.values) if self.values is not None else self.count
 
+    def at(self, fraction: float) -> float:
+        """The point ``fraction`` (0 to 1) of the way across the range, linear or in log.
+
+        Finite for every finite range: where the width (or the ratio, in log)
+        of the range passes the largest double, the ends are weighted instead.
+        """
+        low, high = self.low, self.high
+        if self.log:
+            ratio = high / low
+            if 0.0 < ratio < math.inf:
+                return float(low * ratio ** fraction)
+            sign = math.copysign(1.0, low)
+            return sign * math.exp((1.0 - fraction) * math.log(abs(low))
+                                   + fraction * math.log(abs(high)))
+        width = high - low
+        if math.isfinite(width):
+            return float(low + width * fraction)
+        return float((1.0 - fraction) * low + fraction * high)
+
     def grid(self) -> list:
         """The axis's values on a grid: its ``values``, or ``count`` points over its range."""
         if self.values is not None:
             return list(self.values)
         if self.count == 1:
             return [self.low]
-        points = []
-        for k in range(self.count):
-            fraction = k / (self.count - 1)
-            if self.log:
-                value = self.low * (self.high / self.low) ** fraction
-            else:
-                value = self.low + (self.high - self.low) * fraction
-            points.append(float(value))
+        points = [self.at(k / (self.count - 1)) for k in range(self.count)]
         points[0], points[-1] = self.low, self.high
         return points
 
@@ -96,9 +109,7 @@ class Axis:
         if self.values is not None:
             n = len(self.values)
             return [self.values[min(int(p * n), n - 1)] for p in u.tolist()]
-        if self.log:
-            return [float(self.low * (self.high / self.low) ** p) for p in u.tolist()]
-        return [float(self.low + (self.high - self.low) * p) for p in u.tolist()]
+        return [self.at(p) for p in u.tolist()]
 
 
 def _model_keys(model: FrictionModel) -> list[str]:
@@ -114,6 +125,23 @@ def _model_keys(model: FrictionModel) -> list[str]:
 def is_number(value) -> bool:
     """Whether ``value`` is an int or a float (NumPy's too), not a bool."""
     return not isinstance(value, bool) and isinstance(value, (int, float, np.integer, np.floating))
+
+
+def is_finite(value) -> bool:
+    """Whether ``value`` is a number that is a finite double (a 400-digit integer is not)."""
+    try:
+        return is_number(value) and math.isfinite(value)
+    except OverflowError:
+        return False
+
+
+def is_whole(value) -> bool:
+    """Whether ``value`` is an integer (an int, NumPy's, or a whole finite float), not a bool."""
+    if isinstance(value, bool):
+        return False
+    if isinstance(value, (int, np.integer)):
+        return True
+    return is_finite(value) and float(value).is_integer()
 
 
 class _Where:
@@ -157,9 +185,9 @@ def _parse_axis(where: _Where, key: str, kind: str, spec, method: str) -> Axis:
             raise fail("values", "the list is empty; expected at least one value")
         clean = []
         for value in values:
-            if kind == "float" and is_number(value) and math.isfinite(value):
+            if kind == "float" and is_finite(value):
                 clean.append(float(value))
-            elif kind == "int" and is_number(value) and float(value).is_integer():
+            elif kind == "int" and is_whole(value) and is_finite(value):
                 clean.append(int(value))
             elif kind in ("str", "path") and isinstance(value, str) and value:
                 clean.append(value)
@@ -173,7 +201,7 @@ def _parse_axis(where: _Where, key: str, kind: str, spec, method: str) -> Axis:
         raise fail("range", f"'{key}' takes {takes}; give its 'values' instead of a range")
     bounds = spec["range"]
     if not (isinstance(bounds, (list, tuple)) and len(bounds) == 2
-            and all(is_number(b) and math.isfinite(b) for b in bounds)):
+            and all(is_finite(b) for b in bounds)):
         raise fail("range", f"expected [low, high], two finite numbers; got {describe(bounds)}")
     low, high = float(bounds[0]), float(bounds[1])
     if not low < high:
@@ -184,7 +212,7 @@ def _parse_axis(where: _Where, key: str, kind: str, spec, method: str) -> Axis:
     if scale == "log" and not (low > 0.0 or high < 0.0):
         raise fail("range", f"a log range must not reach or cross zero; got [{low!r}, {high!r}]")
     count = spec.get("count")
-    if count is not None and not (is_number(count) and float(count).is_integer() and count >= 1):
+    if count is not None and not (is_whole(count) and count >= 1):
         raise fail("count", f"expected a positive integer; got {describe(count)}")
     if method == "grid" and count is None:
         raise fail("count", "a grid needs the number of points of each range; give count = N")
@@ -269,12 +297,13 @@ class Sweep:
         except InputError as error:
             raise InputError(f"{where.name}: {error}") from None
         self.model_table = self.model.to_dict()["model"]
+        self.inputs.extend(self.model.files())      # a heights file, a height map
 
     def _load_drive(self, where, system, motion):
         if (system is None) == (motion is None):
             raise where.error("sweep.system", "expected exactly one of 'system' (a [system] "
                                               "file) and 'motion' (a motion file)")
-        self.system = self.motion = None
+        self.system = self.motion = self.motion_file = None
         if system is not None:
             if isinstance(system, System):
                 self.system = {key: getattr(system, field_name)
@@ -298,23 +327,25 @@ class Sweep:
             path = self._path(motion)
             self.inputs.append(path)
             self.motion = read_motion_csv(path)
+            self.motion_file = path
         else:
             raise where.error("sweep.motion", f"expected a motion file; got {describe(motion)}")
 
     def _load_design_size(self, where, samples, seed):
-        if not (is_number(seed) and float(seed).is_integer() and seed >= 0):
-            raise where.error("sweep.seed", f"expected a non-negative integer; got "
-                                            f"{describe(seed)}")
+        if not (is_whole(seed) and 0 <= seed < 2 ** 64):
+            raise where.error("sweep.seed", f"expected a non-negative integer below 2**64; "
+                                            f"got {describe(seed)}")
         self.seed = int(seed)
         self.samples = None
+        # Checked on a grid too (where it is not used): a wrong value is a mistake all the same.
+        if samples is not None and not (is_whole(samples) and samples >= 1):
+            raise where.error("sweep.samples", f"expected a positive integer; got "
+                                               f"{describe(samples)}")
         if self.method == "grid":
             return
         if samples is None:
             raise where.error("sweep.samples", f"a {self.method} design needs the number of "
                                                "runs; give samples = N")
-        if not (is_number(samples) and float(samples).is_integer() and samples >= 1):
-            raise where.error("sweep.samples", f"expected a positive integer; got "
-                                               f"{describe(samples)}")
         self.samples = int(samples)
 
     def _load_metrics(self, where, metrics):
@@ -348,6 +379,8 @@ class Sweep:
         for key, spec in parameters.items():
             kind = self._kind_of(where, key)
             axes.append(_parse_axis(where, key, kind, spec, self.method))
+            if kind == "path":
+                self.inputs.extend(self._path(value) for value in axes[-1].values)
         return tuple(axes)
 
     def _kind_of(self, where, key) -> str:
@@ -417,13 +450,34 @@ class Sweep:
         return ["run", *self.keys, *(metric.name for metric in self.metrics), "status",
                 "seconds"]
 
-    def fingerprint(self) -> str:
+    def file_digests(self) -> dict:
+        """The SHA-256 of each file the runs read by name (None: missing or unreadable).
+
+        Keyed by the file as messages show it: the model's own files (a
+        heights file, a height map), the files a swept key names, and the
+        motion file.  Read afresh at each call: a results table records
+        them when it is made and compares them when a sweep resumes it.
+        """
+        files = list(self.model.files())
+        for axis in self.axes:
+            if axis.kind == "path":
+                files.extend(self._path(value) for value in axis.values)
+        if self.motion_file is not None:
+            files.append(self.motion_file)
+        return {name: _file_digest(name) for name in dict.fromkeys(files)}
+
+    def fingerprint(self, digests=None) -> str:
         """A digest of what every run shares: model, system or motion, metrics, polind's version.
 
         The swept keys' own values in the model and system files do not
-        count; a metric counts by its name, unit and definition.
+        count; a metric counts by its name, unit and definition; a file that
+        the model or a swept key names counts by its contents (``digests``,
+        default :meth:`file_digests`), not its name.
         """
+        digests = self.file_digests() if digests is None else digests
         model = copy.deepcopy(self.model_table)
+        for entries, key, value in self.model.files_in(model):
+            entries[key] = digests.get(value)
         system = dict(self.system or {})
         for key in self.keys:
             root, _, rest = key.partition(".")
@@ -443,19 +497,44 @@ class Sweep:
                 digest.update(key.encode())
                 digest.update(np.ascontiguousarray(self.motion[key]).tobytes())
             motion = digest.hexdigest()
+        swept_files = {axis.key: {value: digests.get(self._path(value)) for value in axis.values}
+                       for axis in self.axes if axis.kind == "path"}
         from polind import __version__
 
         text = json.dumps({"model": model, "system": system, "motion": motion,
+                           "swept_files": swept_files,
                            "metrics": [[metric.name, metric.unit, metric.definition]
                                        for metric in self.metrics],
                            "polind": __version__}, sort_keys=True, default=repr)
         return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+    def record(self) -> dict:
+        """What a results table records of the sweep that made it (JSON-able).
+
+        ``fingerprint`` (:meth:`fingerprint`), ``files`` (:meth:`file_digests`),
+        ``sweep`` (its name) and ``runs``.
+        """
+        digests = self.file_digests()
+        return {"fingerprint": self.fingerprint(digests), "files": digests,
+                "sweep": self.name, "runs": self.runs}
 
     def plan(self) -> RunPlan:
         """What every run needs (:class:`polind.sweeps.runs.RunPlan`)."""
         return RunPlan(model=self.model_table, system=self.system, motion=self.motion,
                        keys=self.keys, kinds=tuple(axis.kind for axis in self.axes),
                        metrics=self.metrics, base_dir=self.base_dir)
+
+
+def _file_digest(name):
+    """The SHA-256 (hex) of a file's contents, read a MiB at a time; None if it cannot be read."""
+    digest = hashlib.sha256()
+    try:
+        with open(name, "rb") as stream:
+            for block in iter(lambda: stream.read(1 << 20), b""):
+                digest.update(block)
+    except OSError:
+        return None
+    return digest.hexdigest()
 
 
 def load_sweep(path) -> Sweep:

@@ -3,7 +3,8 @@
 Each run is a pure function of its parameter values
 (:func:`polind.sweeps.runs.run_one`), so a run's row does not depend on
 where it ran: local worker threads (the numba kernels release the GIL), or
-the workers of an existing Dask distributed cluster.  :func:`sweep` checks
+the workers of an existing Dask distributed cluster
+(:mod:`polind.sweeps.cluster`).  :func:`sweep` checks
 the sweep and its output, computes the runs missing from the results table
 (:class:`polind.sweeps.results.Results`) on one engine, writes their rows as
 they finish, and returns a :class:`SweepSummary`; Ctrl-C stops it with every
@@ -22,18 +23,16 @@ from polind.dynamics import BYTES_PER_SAMPLE
 from polind.errors import InputError, describe
 from polind.io import STDOUT, check_output_path
 from polind.resources import check_memory
-from polind.sweeps.design import Sweep, is_number, load_sweep
+from polind.sweeps.cluster import run_dask
+from polind.sweeps.design import Sweep, is_number, is_whole, load_sweep
 from polind.sweeps.results import Results
-from polind.sweeps.runs import RunPlan, one_line, run_one
+from polind.sweeps.runs import RunPlan, run_one
 
 __all__ = ["MAX_RUNS", "SweepInterrupted", "SweepSummary", "sweep"]
 
 #: A sweep with more runs than this is refused unless the caller confirms
 #: (``max_runs=None`` in Python, ``--yes`` on the command line).
 MAX_RUNS = 10_000
-
-#: How long to try to reach a Dask scheduler before giving up.
-_CONNECT_TIMEOUT = "10s"
 
 #: What a prescribed-motion run holds per sample (t, x, v, F and the step arrays) [bytes].
 _MOTION_BYTES_PER_SAMPLE = 64
@@ -73,57 +72,6 @@ def _run_local(plan: RunPlan, todo, workers: int, record, keep) -> None:
         for future in unrecorded:
             if not future.cancelled() and future.exception() is None:
                 keep(future.result())
-
-
-def _dask_task(plan, index, values):
-    return run_one(plan, index, values)
-
-
-def _run_dask(plan: RunPlan, todo, scheduler, record, keep, lost) -> None:
-    """Every run of ``todo`` as a task of an existing Dask cluster; rows to ``record``.
-
-    ``scheduler`` is an address or a ``distributed.Client``.  A task that
-    fails outside its run (its worker died) is ``lost``: it is not recorded,
-    and running the sweep again computes it.  On any exception here (Ctrl-C)
-    the unfinished tasks are cancelled, the rows of finished ones not yet
-    recorded go to ``keep``, and the exception goes on.
-    """
-    import uuid
-
-    try:
-        from distributed import Client, as_completed
-    except ImportError:  # pragma: no cover - a dependency of polind
-        raise InputError("--scheduler needs the 'distributed' package (pip install "
-                         "'dask[distributed]')") from None
-    own = not isinstance(scheduler, Client)
-    if own:
-        try:
-            client = Client(scheduler, timeout=_CONNECT_TIMEOUT)
-        except (OSError, TimeoutError, ValueError) as error:
-            raise InputError(f"cannot reach the Dask scheduler at {scheduler!r} "
-                             f"({one_line(error)}); expected the address of a running "
-                             f"cluster, such as tcp://HOST:8786") from None
-    else:
-        client = scheduler
-    tag = uuid.uuid4().hex[:8]
-    unrecorded = set()
-    try:
-        shared = client.scatter(plan, broadcast=True, hash=False)
-        unrecorded = {client.submit(_dask_task, shared, index, values, pure=False,
-                                    key=f"polind-sweep-{tag}-{index}") for index, values in todo}
-        for future in as_completed(list(unrecorded)):
-            unrecorded.discard(future)
-            if future.status == "finished":
-                record(future.result())
-            else:
-                lost(future)
-    finally:
-        finished = [future for future in unrecorded if future.status == "finished"]
-        client.cancel([future for future in unrecorded if future.status == "pending"])
-        for future in sorted(finished, key=lambda f: f.key):
-            keep(future.result())
-        if own:
-            client.close()
 
 
 # --- the sweep ------------------------------------------------------------------------------
@@ -227,58 +175,94 @@ def sweep(spec, output, *, workers=None, scheduler=None, max_runs=MAX_RUNS,
         Ctrl-C (a KeyboardInterrupt): finished rows are in the table.
     """
     started = time.perf_counter()
+    if not isinstance(spec, (Sweep, str, os.PathLike)):
+        raise InputError(f"The 'spec' of sweep must be a polind.sweeps.Sweep or a sweep file. "
+                         f"Got {describe(spec)} instead.")
+    if not isinstance(output, (str, os.PathLike)):
+        raise InputError(f"The 'output' of sweep must be a file name ending in .parquet or "
+                         f".csv. Got {describe(output)} instead.")
+    _check_options(workers, scheduler, max_runs)
     plan = spec if isinstance(spec, Sweep) else load_sweep(spec)
     name = os.fspath(output)
     _check_output(name, plan)
+    runs = plan.runs
+    if max_runs is not None and runs > max_runs:
+        raise InputError(f"{plan.name}: the sweep has {_count(runs)} runs, more than the limit "
+                         f"of {_count(max_runs)}; check the counts of [sweep.parameters] and "
+                         f"sweep.samples, or confirm with --yes (max_runs=None in Python)")
+    check_memory(min(runs, 1e300) * (len(plan.axes) + 2) * 64.0,
+                 f"{plan.name}: the design ({_count(runs)} runs)")
+    design = plan.design()
+    with Results(name, plan, design) as results:
+        todo = [(index, values) for index, values in enumerate(design)
+                if index not in results.rows]
+        if todo:
+            results.check_writable()
+        threads = _default_workers() if workers is None else int(workers)
+        if scheduler is None and todo:
+            _check_run_memory(plan, todo, min(threads, len(todo)))
+        counts = {"done": 0, "failed": 0, "lost": 0}
+
+        def keep(row):
+            results.add(row)
+            counts["done"] += 1
+            counts["failed"] += row["status"] != "ok"
+
+        def record(row):
+            keep(row)
+            if progress is not None:
+                progress(counts["done"], len(todo), counts["failed"])
+
+        def lost(future):
+            counts["lost"] += 1
+
+        if progress is not None:
+            progress(0, len(todo), 0)
+        try:
+            if todo and scheduler is not None:
+                run_dask(plan.plan(), todo, scheduler, record, keep, lost)
+            elif todo:
+                _run_local(plan.plan(), todo, min(threads, len(todo)), record, keep)
+        except KeyboardInterrupt:
+            results.flush()
+            raise SweepInterrupted(name, runs, counts["done"], len(results.rows)) from None
+        return SweepSummary(path=name, runs=runs, computed=counts["done"],
+                            failed=counts["failed"], lost=counts["lost"],
+                            seconds=time.perf_counter() - started, table=results.table())
+
+
+def _count(number) -> str:
+    """A count for a message: ``12,345``, or ``about 1e+400`` for a huge one."""
+    if number < 10 ** 15:
+        return f"{int(number):,}"
+    return f"about 1e+{int(int(number).bit_length() * 0.30103)}"
+
+
+def _check_options(workers, scheduler, max_runs):
+    """The options of :func:`sweep`: InputError naming the one that is wrong."""
     if workers is not None and scheduler is not None:
         raise InputError("give 'workers' (local threads) or 'scheduler' (a Dask cluster), "
                          "not both")
-    if workers is not None and (not is_number(workers) or isinstance(workers, float)
-                                or workers < 1):
+    if workers is not None and not (is_whole(workers) and not isinstance(workers, float)
+                                    and workers >= 1):
         raise InputError(f"The number of 'workers' must be a positive integer. Got "
                          f"{describe(workers)} instead.")
-    runs = plan.runs
-    if max_runs is not None and runs > max_runs:
-        raise InputError(f"{plan.name}: the sweep has {runs:,} runs, more than the limit of "
-                         f"{max_runs:,}; check the counts of [sweep.parameters] and "
-                         f"sweep.samples, or confirm with --yes (max_runs=None in Python)")
-    check_memory(runs * (len(plan.axes) + 2) * 64.0, f"{plan.name}: the design ({runs:,} runs)")
-    design = plan.design()
-    results = Results(name, plan, design)
-    todo = [(index, values) for index, values in enumerate(design) if index not in results.rows]
-    threads = _default_workers() if workers is None else int(workers)
-    if scheduler is None and todo:
-        _check_run_memory(plan, todo, min(threads, len(todo)))
-    counts = {"done": 0, "failed": 0, "lost": 0}
+    if max_runs is not None and not (is_number(max_runs) and max_runs >= 0):
+        raise InputError(f"The 'max_runs' of sweep must be a non-negative number of runs, or "
+                         f"None for no limit. Got {describe(max_runs)} instead.")
+    if scheduler is not None and not isinstance(scheduler, (str, os.PathLike)) \
+            and not _is_dask_client(scheduler):
+        raise InputError(f"The 'scheduler' of sweep must be the address of a Dask scheduler "
+                         f"(tcp://HOST:PORT) or a distributed.Client. Got "
+                         f"{describe(scheduler)} instead.")
 
-    def keep(row):
-        results.add(row)
-        counts["done"] += 1
-        counts["failed"] += row["status"] != "ok"
 
-    def record(row):
-        keep(row)
-        if progress is not None:
-            progress(counts["done"], len(todo), counts["failed"])
-
-    def lost(future):
-        counts["lost"] += 1
-
-    if progress is not None:
-        progress(0, len(todo), 0)
+def _is_dask_client(value) -> bool:
     try:
-        if todo and scheduler is not None:
-            _run_dask(plan.plan(), todo, scheduler, record, keep, lost)
-        elif todo:
-            _run_local(plan.plan(), todo, min(threads, len(todo)), record, keep)
-    except KeyboardInterrupt:
-        results.flush()
-        raise SweepInterrupted(name, runs, counts["done"], len(results.rows)) from None
-    finally:
-        results.flush()
-    return SweepSummary(path=name, runs=runs, computed=counts["done"], failed=counts["failed"],
-                        lost=counts["lost"], seconds=time.perf_counter() - started,
-                        table=results.table())
+        from distributed import Client
+    except ImportError:  # pragma: no cover - a dependency of polind
+        return False
+    return isinstance(value, Client)
 
 
 def _check_run_memory(plan: Sweep, todo, threads):

@@ -87,11 +87,29 @@ class Metric:
 METRICS: dict[str, Metric] = {}
 
 
-def register_metric(name: str, *, unit: str, definition: str, needs: str = "any"):
+def register_metric(name: str, *, unit: str = None, definition: str = None,
+                    needs: str = "any"):
     """Add a metric to :data:`METRICS` (a decorator for ``compute(run) -> float``).
 
     A metric defined in a script reaches Dask workers with the sweep (by
     value, as cloudpickle sends functions of ``__main__``).
+
+    Parameters
+    ----------
+    name : str
+        The metric's name, its column in the results table (no comma or newline).
+    unit : str
+        Its unit (``""`` for a number without one).
+    definition : str
+        What it is, in words (the documentation's file formats page lists it).
+    needs : str, default "any"
+        A key of :data:`NEEDS`.
+
+    Raises
+    ------
+    InputError
+        A name, unit or definition that is not text, a ``needs`` that is not
+        a key of :data:`NEEDS`, a ``compute`` that is not callable.
 
     Examples
     --------
@@ -103,11 +121,23 @@ def register_metric(name: str, *, unit: str, definition: str, needs: str = "any"
     'm'
     >>> del METRICS["final_position"]
     """
-    if needs not in NEEDS:
+    if not isinstance(name, str) or not name or any(c in name for c in ",\n\r"):
+        raise InputError(f"The 'name' of register_metric must be a non-empty string without "
+                         f"commas or newlines (a column of the results). Got {describe(name)} "
+                         f"instead.")
+    for key, value in (("unit", unit), ("definition", definition)):
+        if not isinstance(value, str) or (key == "definition" and not value.strip()):
+            raise InputError(f"The '{key}' of metric '{name}' must be a string"
+                             f"{' saying what it is' if key == 'definition' else ''}. Got "
+                             f"{describe(value)} instead.")
+    if not isinstance(needs, str) or needs not in NEEDS:
         raise InputError(f"The 'needs' of metric '{name}' must be one of: {', '.join(NEEDS)}. "
                          f"Got {describe(needs)} instead.")
 
     def add(compute):
+        if not callable(compute):
+            raise InputError(f"register_metric('{name}') decorates a function compute(run) -> "
+                             f"float. Got {describe(compute)} instead.")
         METRICS[name] = Metric(name, unit, needs, definition, compute)
         return compute
 

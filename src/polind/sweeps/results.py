@@ -5,8 +5,26 @@ The table (Parquet or CSV) has the columns :attr:`polind.sweeps.Sweep.columns`:
 ``status`` (``"ok"`` or the run's one-line error) and ``seconds``.
 :class:`Results` holds a sweep's output: the rows already in the file (a
 sweep started again on the same output computes only the runs that are
-missing, and refuses an output made by another sweep) and the rows added as
-runs finish.  :func:`read_results` reads a table back, sorted by run.
+missing) and the rows added as runs finish.  :func:`read_results` reads a
+table back, sorted by run.
+
+A sweep owns its results table:
+
+- one writer at a time: :class:`Results` holds the output's lock
+  (:func:`polind.io.writer_lock`) from before it reads the file until the
+  last row is written; a second sweep on the same output is refused;
+- the record of what was run (:meth:`polind.sweeps.Sweep.record`: the
+  fingerprint of the model, the system or motion and the metrics, and the
+  SHA-256 of every file the runs read by name) is kept in the Parquet
+  file's metadata, or beside a CSV file in ``.NAME.sweep.json``; a resume
+  whose record differs is refused, naming a file whose contents changed;
+- a file is checked to be this sweep's results table before anything is
+  written to it: its header, its record, its column types and every row;
+  a file that is not (another sweep's, a CSV of something else, a file
+  that is not UTF-8 or not Parquet) is refused with an
+  :class:`~polind.errors.InputError` naming what is wrong, and left as it
+  was.  Only then is a row cut short by a killed sweep (a CSV's last line
+  without its newline) dropped.
 """
 
 from __future__ import annotations
@@ -19,12 +37,13 @@ import os
 import time
 from io import StringIO
 
-from polind.errors import InputError
-from polind.io import atomic_open, atomic_write_text, number_text
+from polind.errors import InputError, describe
+from polind.io import atomic_open, atomic_write_text, number_text, writer_lock
+from polind.io.text import read_bytes
 from polind.sweeps.design import Sweep
 from polind.sweeps.runs import one_line
 
-__all__ = ["Results", "read_results"]
+__all__ = ["Results", "read_results", "record_path"]
 
 # Between two rewrites of a Parquet output at least this long, and ten times as
 # long as the last rewrite took (a long table is rewritten less often).
@@ -35,26 +54,85 @@ _FLUSH_SECONDS = 1.0
 _METADATA_KEY = b"polind.sweep"
 
 
+def record_path(path) -> str:
+    """Where a CSV results table keeps its record: ``.NAME.sweep.json`` beside it."""
+    folder, base = os.path.split(os.path.realpath(os.fspath(path)))
+    return os.path.join(folder, f".{base}.sweep.json")
+
+
+def _csv_lines(name, data: bytes) -> tuple[list[str], int]:
+    """The complete lines of a CSV file's bytes, and where its complete lines end.
+
+    A last line without its newline (a row cut short by a killed sweep) is
+    not among them.  Bytes that are not UTF-8 are an InputError naming the row.
+    """
+    end = data.rfind(b"\n") + 1
+    try:
+        text = data[:end].decode("utf-8")
+    except UnicodeDecodeError as error:
+        row = data[:error.start].count(b"\n") + 1
+        raise InputError(f"{name}: row {row}: expected UTF-8 text, got the byte "
+                         f"{data[error.start:error.start + 1]!r}; not a sweep's results "
+                         f"table") from None
+    return text.splitlines(), end
+
+
 class Results:
     """The output table of a sweep: the rows already there, and the rows added as runs finish.
 
-    CSV rows are appended to the file as they come (a row per line, in the
-    order runs finish).  A Parquet file is rewritten whole, atomically, at
-    most every ``_FLUSH_SECONDS`` and at the end, its rows sorted by run;
-    its metadata records the sweep's :meth:`~polind.sweeps.Sweep.fingerprint`.
+    Used as a context manager: entering it takes the output's lock and reads
+    and checks what the file holds (refusing a file that is not this
+    sweep's, before anything is written); leaving it writes the rows not yet
+    written and lets go of the lock.  CSV rows are appended to the file as
+    they come (a row per line, in the order runs finish).  A Parquet file is
+    rewritten whole, atomically, at most every ``_FLUSH_SECONDS`` and at the
+    end, its rows sorted by run, with the sweep's record in its metadata.
     """
 
     def __init__(self, path, plan: Sweep, design: list[tuple]):
         self.path = os.fspath(path)
         self.plan = plan
+        self.design = design
         self.columns = plan.columns
         self.parquet = self.path.lower().endswith(".parquet")
         self.rows: dict[int, dict] = {}
         self.pending: list[dict] = []
         self.last_flush = time.monotonic()
         self.flush_cost = 0.0
-        if os.path.exists(self.path):
-            self._read(design)
+        self.record = None
+        self.cut = None                 # where a CSV's complete lines end, if a row was cut
+        self._held = None
+
+    def __enter__(self) -> "Results":
+        held = contextlib.ExitStack()
+        held.enter_context(writer_lock(self.path, "another sweep"))
+        try:
+            self.record = self.plan.record()
+            if os.path.exists(self.path):
+                self._read(self.design)
+        except BaseException:
+            held.close()
+            raise
+        self._held = held
+        return self
+
+    def __exit__(self, *exc_info):
+        try:
+            self.flush()
+        finally:
+            self._held.close()
+            self._held = None
+
+    def check_writable(self) -> None:
+        """Refuse (InputError) an existing table that cannot take the rows to come.
+
+        A table made read-only (no write permission for anyone) is refused
+        even where the user could write it all the same (root).
+        """
+        if os.path.exists(self.path) and (not os.access(self.path, os.W_OK)
+                                          or not os.stat(self.path).st_mode & 0o222):
+            raise InputError(f"{self.path}: the results table is read-only; a sweep adds its "
+                             f"rows to it: expected a file it may write, or another --output")
 
     # -- types of the columns
 
@@ -71,6 +149,22 @@ class Results:
         return InputError(f"{self.path}: {message}; the output of another sweep is never mixed "
                           f"with this one's: give another --output, or remove the file to "
                           f"start again")
+
+    def _check_record(self, record):
+        """The record of the sweep that made the file must be this sweep's."""
+        if not isinstance(record, dict):
+            raise self._refuse(f"its record of the sweep that made it is "
+                               f"{describe(record)}, not a table of what was run")
+        if record.get("fingerprint") == self.record["fingerprint"]:
+            return
+        files = record.get("files")
+        if isinstance(files, dict):
+            for name, digest in self.record["files"].items():
+                if name in files and files[name] != digest:
+                    raise self._refuse(f"{name} changed since its rows were computed (its "
+                                       f"contents are not those the runs read)")
+        raise self._refuse(f"it was made from another model, system, motion or metric list "
+                           f"than {self.plan.name}")
 
     def _read(self, design):
         rows = self._read_parquet() if self.parquet else self._read_csv()
@@ -90,9 +184,11 @@ class Results:
                 if not same:
                     raise self._refuse(f"row {number} (run {index}) has {key} = {got!r} where "
                                        f"{self.plan.name} gives {want!r}")
-            self.rows.setdefault(index, row)
+        for _, row in rows:
+            self.rows.setdefault(row["run"], row)
 
     def _read_parquet(self):
+        import pyarrow as pa
         import pyarrow.parquet as pq
 
         try:
@@ -104,34 +200,45 @@ class Results:
         if table.column_names != self.columns:
             raise self._refuse(f"its columns ({', '.join(table.column_names)}) are not those of "
                                f"{self.plan.name} ({', '.join(self.columns)})")
-        metadata = json.loads((table.schema.metadata or {}).get(_METADATA_KEY, b"{}"))
-        if metadata.get("fingerprint") != self.plan.fingerprint():
-            raise self._refuse(f"it was made from another model, system, motion or metric list "
-                               f"than {self.plan.name}")
+        held = {"int": pa.types.is_integer, "str": pa.types.is_string,
+                "float": lambda kind: pa.types.is_floating(kind) or pa.types.is_integer(kind)}
+        for key, kind in self._kinds().items():
+            column = table.column(key)
+            if not held[kind](column.type):
+                raise self._refuse(f"its column '{key}' holds values of type {column.type}; "
+                                   f"expected {'words' if kind == 'str' else kind + 's'}")
+            if column.null_count:
+                raise self._refuse(f"its column '{key}' has missing values (null)")
+        metadata = (table.schema.metadata or {}).get(_METADATA_KEY)
+        if metadata is None:
+            raise self._refuse("it holds no record of the sweep that made it (the Parquet "
+                               "metadata 'polind.sweep')")
+        try:
+            record = json.loads(metadata)
+        except (ValueError, RecursionError):
+            raise self._refuse("its record of the sweep that made it (the Parquet metadata "
+                               "'polind.sweep') is not JSON") from None
+        self._check_record(record)
         columns = table.to_pydict()
         return [(number + 1, {key: columns[key][number] for key in self.columns})
                 for number in range(table.num_rows)]
 
     def _read_csv(self):
         kinds = self._kinds()
-        with open(self.path, "rb") as stream:
-            data = stream.read()
-        if data and not data.endswith(b"\n"):
-            # A row cut short by a killed process: it was never a finished row.
-            cut = data.rfind(b"\n") + 1
-            data = data[:cut]
-            with open(self.path, "r+b") as stream:
-                stream.truncate(cut)
+        data = read_bytes(self.path, "a sweep's results table")
         if not data:
-            return []
-        lines = data.decode("utf-8").splitlines()
-        reader = csv.reader(lines)
-        header = next(reader)
+            return []                   # nothing there to lose: the table starts here
+        lines, end = _csv_lines(self.path, data)
+        if not lines:
+            raise self._refuse("it holds no header row of a results table (a first line "
+                               "without its newline)")
+        header = next(csv.reader(lines[:1]))
         if header != self.columns:
             raise self._refuse(f"its columns ({', '.join(header)}) are not those of "
                                f"{self.plan.name} ({', '.join(self.columns)})")
+        self._check_record(self._csv_record())
         rows = []
-        for number, fields in enumerate(reader, start=2):
+        for number, fields in enumerate(csv.reader(lines[1:]), start=2):
             if len(fields) != len(header):
                 raise self._refuse(f"row {number} has {len(fields)} fields, not {len(header)}")
             row = {}
@@ -141,10 +248,28 @@ class Results:
                     row[key] = int(text) if kind == "int" else float(text) \
                         if kind == "float" else text
             except ValueError:
-                raise self._refuse(f"row {number}, column '{key}': {text!r} is not a "
+                raise self._refuse(f"row {number}, column '{key}': {describe(text)} is not a "
                                    f"{kinds[key]} number") from None
             rows.append((number, row))
+        if end < len(data):
+            self.cut = end              # dropped before the first row is appended
         return rows
+
+    def _csv_record(self):
+        name = record_path(self.path)
+        try:
+            with open(name, encoding="utf-8") as stream:
+                text = stream.read()
+        except FileNotFoundError:
+            raise self._refuse(f"it holds no record of the sweep that made it ({name} is "
+                               f"missing)") from None
+        except (OSError, UnicodeDecodeError) as error:
+            raise self._refuse(f"its record {name} cannot be read ({one_line(error)})") \
+                from None
+        try:
+            return json.loads(text)
+        except (ValueError, RecursionError):
+            raise self._refuse(f"its record {name} is not JSON") from None
 
     # -- writing
 
@@ -179,9 +304,16 @@ class Results:
             writer.writerow([number_text(row[key]) if isinstance(row[key], float)
                              else str(row[key]) for key in self.columns])
         if new:
+            # The record first: a table is never without it.
+            atomic_write_text(record_path(self.path), json.dumps(self.record) + "\n")
             atomic_write_text(self.path, buffer.getvalue())
             return
         try:
+            if self.cut is not None:
+                # A row cut short by a killed sweep: it was never a finished row.
+                with open(self.path, "r+b") as stream:
+                    stream.truncate(self.cut)
+                self.cut = None
             with open(self.path, "a", encoding="utf-8", newline="\n") as stream:
                 stream.write(buffer.getvalue())
         except OSError as error:
@@ -193,9 +325,7 @@ class Results:
 
         types_of = {"int": pa.int64(), "float": pa.float64(), "str": pa.string()}
         kinds = self._kinds()
-        metadata = {_METADATA_KEY: json.dumps({
-            "fingerprint": self.plan.fingerprint(), "sweep": self.plan.name,
-            "runs": self.plan.runs}).encode()}
+        metadata = {_METADATA_KEY: json.dumps(self.record).encode()}
         schema = pa.schema([(key, types_of[kinds[key]]) for key in self.columns],
                            metadata=metadata)
         ordered = [self.rows[index] for index in sorted(self.rows)]
@@ -213,34 +343,68 @@ class Results:
 def read_results(path) -> dict:
     """A sweep's results table, its rows sorted by run: column name to list.
 
-    Rows of the same run found twice (two sweeps written to one output at
-    once) are kept once, the first.  From a CSV, every column but ``run``
-    and the words (``status``, word parameters) is read as floats.
+    Rows of the same run found twice are kept once, the first; a CSV's last
+    row cut short (a killed sweep) is left out.  From a CSV, every column but
+    ``run`` and the words (``status``, word parameters) is read as floats.
+
+    Raises
+    ------
+    InputError
+        Naming the file: missing or unreadable, not UTF-8 or not Parquet, or
+        not a sweep's results table (no ``run`` column of whole numbers).
     """
     name = os.fspath(path)
     if name.lower().endswith(".parquet"):
-        import pyarrow.parquet as pq
-
-        columns = pq.read_table(name).to_pydict()
+        columns = _parquet_columns(name)
     else:
-        with open(name, newline="", encoding="utf-8") as stream:
-            lines = stream.read()
-        if not lines.endswith("\n"):
-            lines = lines[:lines.rfind("\n") + 1]
-        reader = csv.reader(lines.splitlines())
-        header = next(reader, ["run"])
+        lines, _ = _csv_lines(name, read_bytes(name, "a sweep's results table"))
+        reader = csv.reader(lines)
+        header = next(reader, [])
         columns = {key: [] for key in header}
-        for fields in reader:
+        for number, fields in enumerate(reader, start=2):
+            if len(fields) != len(header):
+                raise InputError(f"{name}: row {number} has {len(fields)} fields, not "
+                                 f"{len(header)} as its header; expected a sweep's results "
+                                 f"table")
             for key, text in zip(header, fields):
                 columns[key].append(text)
         for key, values in columns.items():
-            if key == "run":
-                columns[key] = [int(value) for value in values]
-            elif key != "status":
+            if key not in ("run", "status"):
                 with contextlib.suppress(ValueError):
                     columns[key] = [float(value) for value in values]
+    runs = columns.get("run")
+    if runs is None:
+        raise InputError(f"{name}: has no 'run' column; expected a sweep's results table")
+    indices = []
+    for value in runs:
+        try:
+            indices.append(_run_index(value))
+        except (TypeError, ValueError):
+            raise InputError(f"{name}: its 'run' column holds {describe(value)}; expected "
+                             f"whole numbers (a sweep's results table)") from None
+    columns["run"] = indices
     first = {}
     for position, index in enumerate(columns["run"]):
         first.setdefault(index, position)
     order = [first[index] for index in sorted(first)]
     return {key: [values[position] for position in order] for key, values in columns.items()}
+
+
+def _run_index(value) -> int:
+    """A run's index from a table cell (an int, or its text); ValueError for anything else."""
+    if isinstance(value, bool) or not isinstance(value, (int, str)):
+        raise ValueError(value)
+    return int(value)
+
+
+def _parquet_columns(name) -> dict:
+    """The columns of a Parquet file as lists; an InputError naming it if it is not one."""
+    import pyarrow.parquet as pq
+
+    if not os.path.exists(name):
+        raise InputError(f"{name}: no such file; expected a sweep's results table")
+    try:
+        return pq.read_table(name).to_pydict()
+    except Exception as error:  # noqa: BLE001 - any unreadable file is refused the same way
+        raise InputError(f"{name}: cannot be read as Parquet ({one_line(error)}); expected a "
+                         f"sweep's results table") from None

@@ -90,7 +90,12 @@ def run_one(plan: RunPlan, index: int, values: tuple,
                               normal_load=motion.get("normal_load"), progress=check_stop)
             output = RunOutput(result.t, result.x, result.v, result.force, None, None, model)
         for metric in plan.metrics:
-            row[metric.name] = float(metric.compute(output))
+            value = float(metric.compute(output))
+            if math.isinf(value):
+                # NaN says "not defined for this run"; an infinity is no number at all.
+                raise InputError(f"the metric '{metric.name}' is {value} (beyond double "
+                                 f"precision); expected a finite value")
+            row[metric.name] = value
         row["status"] = "ok"
     except Exception as error:  # noqa: BLE001 - a failed run is a row, and the sweep goes on
         for metric in plan.metrics:

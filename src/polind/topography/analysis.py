@@ -49,6 +49,10 @@ NEAR_WHITE_NOISE = 0.5
 #: Most filtered rows of the default cut-off study.
 STUDY_ROWS = 7
 
+# Heights closer than this many times the largest height of the map (as measured) are
+# equal to within the round-off of levelling (a few operations of relative error eps).
+_ROUND_OFF = 64 * float(np.finfo(np.float64).eps)
+
 
 @dataclass(frozen=True)
 class MeasuredSurface:
@@ -275,6 +279,8 @@ class MeasuredSurface:
         ``outliers_removed`` and ``warnings`` (:attr:`warnings`).  With both
         ``effective_modulus`` ``E*`` [Pa] and ``hardness`` ``H`` [Pa]:
         ``plasticity_index`` (:meth:`plasticity_index`).
+        Every number is finite: a map whose statistics pass double precision is an
+        InputError naming the key.
         """
         summary = {
             "grid": list(self.grid),
@@ -299,6 +305,11 @@ class MeasuredSurface:
             "cutoff_study": [dict(row) for row in self.cutoff_study],
             "warnings": list(self.warnings),
         }
+        for key, value in [*summary.items(), *summary["greenwood_williamson"].items()]:
+            if isinstance(value, float) and not np.isfinite(value):
+                raise InputError(f"{self.source}: its {key} is {value} (beyond double "
+                                 f"precision); expected heights and pixel sizes of a physical "
+                                 f"size.")
         if effective_modulus is not None or hardness is not None:
             if effective_modulus is None or hardness is None:
                 missing = "effective_modulus" if effective_modulus is None else "hardness"
@@ -360,6 +371,12 @@ def analyse(height_map: HeightMap, short_cutoff=None, *, remove_outliers=False,
     dx, dy = height_map.pixel_size
     if short_cutoff is not None:
         short_cutoff = check_cutoff(short_cutoff, (dx, dy), height_map.source)
+        nx, ny = height_map.grid
+        extent = max(nx * dx, ny * dy)
+        if short_cutoff > extent:
+            raise InputError(f"{height_map.source}: the short_cutoff {short_cutoff!r} m is longer "
+                             f"than the map ({extent:.6g} m across), which it would flatten; "
+                             f"expected a cut-off shorter than the map.")
     check_levelling(levelling)
     if not isinstance(remove_outliers, (bool, np.bool_)):
         raise InputError(f"The 'remove_outliers' parameter of topography must be true or false. "
@@ -376,11 +393,14 @@ def analyse(height_map: HeightMap, short_cutoff=None, *, remove_outliers=False,
         analysed = HeightMap(low_pass(levelled.heights, (dx, dy), short_cutoff),
                              levelled.pixel_size, levelled.source, levelled.channel)
     heights = analysed.heights
-    i, j = find_summits(heights)
+    # Levelling leaves round-off of the size of the heights it subtracted the plane from
+    # (a tilted plane is flat to within it): a summit must stand out of it.
+    largest = float(np.nanmax(np.abs(height_map.heights)))
+    i, j = find_summits(heights, tolerance=_ROUND_OFF * largest)
     if i.size == 0:
         raise InputError(f"{height_map.source}: the map has no summit (no interior point with "
-                         f"8 valid neighbours is strictly higher than all of them); expected a "
-                         f"rough surface.")
+                         f"8 valid neighbours stands above all of them by more than the "
+                         f"round-off of levelling); expected a rough surface.")
     surface = MeasuredSurface(
         height_map=analysed,
         summit_index=(i, j),

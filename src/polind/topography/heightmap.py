@@ -29,9 +29,22 @@ from dataclasses import dataclass
 import numpy as np
 
 from polind.errors import InputError, describe
+from polind.resources import check_memory
 from polind.validation import check_number
 
-__all__ = ["HeightMap", "read_height_map", "surface_topography", "GRID_SUFFIXES"]
+__all__ = ["BYTES_PER_POINT", "HeightMap", "LARGEST_HEIGHT", "read_height_map",
+           "surface_topography", "GRID_SUFFIXES"]
+
+#: What reading and analysing a map holds per grid point at its peak [bytes]: the heights,
+#: the levelled and low-passed maps, the masks of the summit search and the figure (40
+#: measured with a low-pass on a 2000 x 2000 map).
+BYTES_PER_POINT = 64
+#: The largest height [m] and the range of pixel sizes [m] a map may have: its heights
+#: squared and summed, and divided by the square of its pixel sizes, stay finite doubles.
+LARGEST_HEIGHT = 1e100
+_PIXEL_RANGE = (1e-100, 1e100)
+# Bytes of memory per byte of a .csv grid read as text (the text, its lines, the parse).
+_CSV_GRID_BYTES_PER_BYTE = 16
 
 #: File name endings read by polind itself (the pixel size must be given).
 GRID_SUFFIXES = (".npy", ".csv")
@@ -76,8 +89,10 @@ class HeightMap:
         ------
         polind.InputError
             If the array is not two-dimensional with at least 3 x 3 points,
-            holds an infinite value, has no valid point, or the pixel size
-            is not two positive finite numbers; the message names ``source``.
+            holds an infinite value or a height beyond
+            :data:`polind.topography.heightmap.LARGEST_HEIGHT` in size, has
+            no valid point, or the pixel size is not two positive numbers
+            from 1e-100 to 1e100 m; the message names ``source``.
 
         Examples
         --------
@@ -102,6 +117,11 @@ class HeightMap:
         if np.isinf(array).any():
             raise InputError(f"{source}: {int(np.isinf(array).sum())} height(s) are infinite; "
                              f"expected finite heights, NaN for a missing point.")
+        largest = float(np.nanmax(np.abs(array))) if not np.isnan(array).all() else 0.0
+        if largest > LARGEST_HEIGHT:
+            raise InputError(f"{source}: a height is {largest:.3g} m; expected heights in metres "
+                             f"of a physical size, at most {LARGEST_HEIGHT:g} m (their squares "
+                             f"and sums must stay within double precision).")
         valid = int(np.count_nonzero(~np.isnan(array)))
         if valid == 0:
             raise InputError(f"{source}: every one of the {array.size} points is missing; "
@@ -127,7 +147,14 @@ def _pixel_size(pixel_size) -> tuple[float, float]:
     if values is None or len(values) != 2:
         raise InputError(f"The 'pixel_size' parameter of {_OWNER} must be two numbers "
                          f"[dx, dy] in metres. Got {describe(pixel_size)} instead.")
-    return tuple(check_number(_OWNER, "pixel_size", value, "positive") for value in values)
+    sizes = tuple(check_number(_OWNER, "pixel_size", value, "positive") for value in values)
+    low, high = _PIXEL_RANGE
+    for size in sizes:
+        if not low <= size <= high:
+            raise InputError(f"The 'pixel_size' parameter of {_OWNER} must be of a physical "
+                             f"size, from {low:g} to {high:g} m (its square divides the "
+                             f"heights). Got {size!r} instead.")
+    return sizes
 
 
 def read_height_map(path, pixel_size=None, channel=None) -> HeightMap:
@@ -183,6 +210,8 @@ def read_height_map(path, pixel_size=None, channel=None) -> HeightMap:
         raise InputError(f"{name}: no such file; expected a height map.")
     if os.path.isdir(name):
         raise InputError(f"{name}: is a directory; expected a height map file.")
+    if os.path.isfile(name) and os.path.getsize(name) == 0:
+        raise InputError(f"{name}: the file is empty; expected a height map.")
     if name.lower().endswith(GRID_SUFFIXES):
         if pixel_size is None:
             raise InputError(f"{name}: a {os.path.splitext(name)[1]} grid holds no pixel size; "
@@ -196,7 +225,44 @@ def read_height_map(path, pixel_size=None, channel=None) -> HeightMap:
     return _read_with_surface_topography(name, pixel_size, channel)
 
 
+def _check_map_memory(name, nx, ny):
+    """Refuse, before reading, a map whose reading and analysis would pass the memory limit."""
+    check_memory(float(nx) * float(ny) * BYTES_PER_POINT,
+                 f"{name}: a height map of {nx} x {ny} points")
+
+
+def _npy_shape(name):
+    """The shape a .npy file's header declares, checked against the file's size and the memory.
+
+    Read before the array, so that a header declaring more than the file
+    holds (a truncated file) or more than the memory limit allows is refused
+    before anything is allocated.
+    """
+    from numpy.lib import format as npy
+
+    try:
+        with open(name, "rb") as stream:
+            version = npy.read_magic(stream)
+            reader = npy.read_array_header_1_0 if version == (1, 0) else \
+                npy.read_array_header_2_0
+            shape, _, dtype = reader(stream)
+            offset = stream.tell()
+            size = os.fstat(stream.fileno()).st_size
+    except (OSError, ValueError, EOFError) as error:
+        raise InputError(f"{name}: cannot be read as a NumPy .npy array ({_first_line(error)}); "
+                         f"expected a two-dimensional array of heights in metres.") from None
+    if len(shape) == 2:
+        _check_map_memory(name, *shape)
+    declared = math.prod(shape) * dtype.itemsize
+    if not dtype.hasobject and size - offset < declared:
+        raise InputError(f"{name}: the .npy header declares {' x '.join(map(str, shape))} "
+                         f"values ({declared:,} bytes) but the file holds {size - offset:,}; "
+                         f"expected a complete .npy file.")
+    return shape
+
+
 def _read_npy(name) -> np.ndarray:
+    _npy_shape(name)
     try:
         array = np.load(name, allow_pickle=False)
     except (OSError, ValueError, EOFError) as error:
@@ -210,6 +276,12 @@ def _read_npy(name) -> np.ndarray:
 
 
 def _read_csv_grid(name) -> np.ndarray:
+    try:
+        size = os.path.getsize(name)
+    except OSError:
+        size = 0                      # the read below names the problem
+    check_memory(size * _CSV_GRID_BYTES_PER_BYTE,
+                 f"{name}: reading a .csv height map of {size / 1e6:.3g} MB")
     try:
         with open(name, encoding="utf-8-sig") as handle:
             text = handle.read()
@@ -367,10 +439,17 @@ def _height_map_of(reader, name, pixel_size, wanted=None) -> HeightMap:
     if channel.dim != 2:
         raise InputError(f"{name}: is a line scan ({channel.dim}-dimensional data); expected "
                          f"a two-dimensional height map.")
+    nx, ny = (int(n) for n in channel.nb_grid_pts)
+    # The format SurfaceTopography took the file for: a damaged file may pass for another.
+    taken = f"read as {_format_name(reader)} data of {nx} x {ny} points"
+    if min(nx, ny) < 3:
+        raise InputError(f"{name}: {taken}, which is no height map; expected a height map of "
+                         f"at least 3 x 3 points (is the file truncated or damaged?).")
     if channel.unit is None:
-        raise InputError(f"{name}: the file gives no length unit, so its heights cannot be "
-                         f"converted to metres; expected a height map with units, or the "
-                         f"heights in metres saved as a .npy/.csv grid.")
+        raise InputError(f"{name}: {taken}, the file gives no length unit, so its heights "
+                         f"cannot be converted to metres; expected a height map with units, "
+                         f"or the heights in metres saved as a .npy/.csv grid.")
+    _check_map_memory(name, nx, ny)
     options = {}
     if channel.physical_sizes is None:
         if pixel_size is None:
@@ -396,6 +475,14 @@ def _height_map_of(reader, name, pixel_size, wanted=None) -> HeightMap:
         raise InputError(f"{name}: SurfaceTopography cannot read the heights of this file "
                          f"({_first_line(error)}); expected a readable height map.") from None
     return HeightMap.from_array(heights, (dx, dy), name, channel.channel_id)
+
+
+def _format_name(reader) -> str:
+    """The name of the format a SurfaceTopography reader reads (``"NASA SRTM (hgt)"``)."""
+    try:
+        return f"{reader.name()} ({reader.format()})"
+    except Exception:  # noqa: BLE001 - a reader without names: its class says it
+        return type(reader).__name__.removesuffix("Reader")
 
 
 def _sizes_text(sizes, unit) -> str:

@@ -273,18 +273,21 @@ def low_pass(heights, pixel_size, short_cutoff):
     return smoothed
 
 
-def find_summits(heights):
+def find_summits(heights, tolerance=0.0):
     """The summits of a height map: indices ``(i, j)`` in row-major order.
 
     A summit is an interior point (not on the border), none of whose 8
-    neighbours is missing, that is strictly higher than each of its 8
-    neighbours.  A plateau of equal heights therefore has no summit, and a
-    point next to a missing point is never one.
+    neighbours is missing, that is higher than each of its 8 neighbours by
+    more than ``tolerance``.  A plateau of equal heights therefore has no
+    summit, and a point next to a missing point is never one.
 
     Parameters
     ----------
     heights : numpy.ndarray
         ``h[i, j]``, ``NaN`` where missing.
+    tolerance : float, optional
+        Differences of height up to this [m] count as equal (the round-off
+        of levelling, :func:`polind.topography.analyse`); default 0: strictly higher.
 
     Returns
     -------
@@ -309,6 +312,8 @@ def find_summits(heights):
         return h[1 + di:nx - 1 + di, 1 + dj:ny - 1 + dj]
 
     # A comparison with NaN is False: a missing neighbour or centre excludes the point.
+    if tolerance > 0.0:
+        centre = centre - tolerance
     first, *others = _NEIGHBOURS
     summit = centre > neighbour(*first)
     for di, dj in others:
