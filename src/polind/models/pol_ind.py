@@ -544,8 +544,10 @@ class PolInd(FrictionModel):
         """Loads the run may use: at most the state's table load, within the surface's range."""
         table_load = float(state.variables["table_load"][0])
         peak = float(np.max(loads))
-        other = np.abs(np.asarray(loads) - table_load) > 1e-12 * table_load
-        if self._params["surface"].get("ball_radius") and np.any(other):
+        other = None
+        if self._params["surface"].get("ball_radius"):      # no copy of the loads otherwise
+            other = np.abs(np.asarray(loads) - table_load) > 1e-12 * table_load
+        if other is not None and np.any(other):
             raise InputError(f"A 'normal_load' that varies ({float(loads[np.argmax(other)])!r} N, "
                              f"the contact built at {table_load!r} N) is not supported with "
                              f"'surface.ball_radius' of pol-ind: a run keeps the ball's Hertz "
