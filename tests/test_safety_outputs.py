@@ -90,8 +90,11 @@ def snapshot(folder):
 
 
 def one_error_line(err):
-    assert err.count("\n") == 1 and err.startswith("polind: error: "), err
-    return err
+    """One error line, last; any line before it is a warning the run gave (each one line)."""
+    lines = err.splitlines()
+    assert err.endswith("\n") and lines and lines[-1].startswith("polind: error: "), err
+    assert all(line.startswith("polind: warning: ") for line in lines[:-1]), err
+    return lines[-1]
 
 
 def leftovers(folder, before):

@@ -87,8 +87,8 @@ class Plasticity:
     >>> plasticity = Plasticity(2e9, 0.3)
     >>> E_star, R = 115.4e9, 10e-6
     >>> w_c = plasticity.critical_interference(R, E_star)
-    >>> round(w_c * 1e9, 3)                       # nm: steel summits yield early
-    2.469
+    >>> round(float(w_c) * 1e9, 3)                # nm: steel summits yield early
+    2.467
     """
 
     hardness: float
