@@ -129,7 +129,8 @@ def bare_trial(step_function, tangent_function, memoryless, mount, scalars, tabl
     """
     n = state.shape[0]
     work = scratch[:n]
-    work[:] = state
+    for i in range(n):      # a loop: `work[:] = state` compiles NumPy's shape-error message (5 s)
+        work[i] = state[i]
     sample_velocity = velocity if memoryless else sample_slope * velocity + sample_offset
     force = step_function(scalars, table, work, step, velocity * step, velocity,
                           sample_velocity, normal_load)

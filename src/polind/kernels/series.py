@@ -55,7 +55,8 @@ def contact_trial(step_function, tangent_function, memoryless, mount, scalars, t
     """``(F_contact(w), dF/dw)`` of the scaled contact on a copy of ``state`` (in ``scratch``)."""
     n = state.shape[0]
     work = scratch[:n]
-    work[:] = state
+    for i in range(n):      # a loop: `work[:] = state` compiles NumPy's shape-error message (5 s)
+        work[i] = state[i]
     sample_velocity = velocity if memoryless else sample_slope * velocity + sample_offset
     force = contact_step(step_function, mount, scalars, table, work, step, velocity * step,
                          velocity, sample_velocity, normal_load)
@@ -116,7 +117,8 @@ def mounted_trial(step_function, tangent_function, memoryless, mount, scalars, t
     """
     n = state.shape[0]
     work = scratch[:n]
-    work[:] = state
+    for i in range(n):      # a loop: `work[:] = state` compiles NumPy's shape-error message (5 s)
+        work[i] = state[i]
     sample_velocity = velocity if memoryless else sample_slope * velocity + sample_offset
     force, contact_displacement, contact_velocity = mounted_step(
         step_function, tangent_function, mount, scalars, table, work, scratch[n:], step,
