@@ -17,14 +17,15 @@ import pytest
 
 SOURCE = Path(__file__).resolve().parents[1] / "src" / "polind"
 
-# The Stribeck model's kernel (kernels/static.py) inlines the curve of kernels/stribeck.py.
+# The Stribeck model's runners (kernels/generated/memoryless.py) inline the curve of
+# kernels/stribeck.py.
 PROBE = ("import numpy as np, polind\n"
          "from polind.models import Stribeck\n"
          "t = np.linspace(0.0, 1.0, 11)\n"
          "print(repr(float(polind.simulate(Stribeck.example(), t, x=1e-3 * t).force[-1])))\n"
          "from numba.core.dispatcher import Dispatcher\n"
-         "from polind.kernels import static\n"
-         "print(sum(sum(d.stats.cache_hits.values()) for d in vars(static).values()\n"
+         "from polind.kernels.generated import memoryless\n"
+         "print(sum(sum(d.stats.cache_hits.values()) for d in vars(memoryless).values()\n"
          "          if isinstance(d, Dispatcher)))\n")
 
 
@@ -68,3 +69,28 @@ def test_the_stamp_covers_every_kernel_source():
     assert stamp == cache.sources_stamp(cache.KERNELS_DIR / "static.py")
     assert {path.name for path in cache._kernel_files()} >= {"static.py", "stribeck.py",
                                                               "elements.py", "cache.py"}
+
+
+# A LuGre contact behind a series spring (the mounted runners, the path every rig needs).
+MOUNTED = ("import numpy as np, polind\n"
+           "from polind.models import LuGre\n"
+           "model = LuGre.example().with_params(compliance={'stiffness': 1e5})\n"
+           "t = np.linspace(0.0, 1.0, 101)\n"
+           "print(repr(float(polind.simulate(model, t, x=1e-4 * t).force[-1])))\n"
+           "from polind.kernels.generated import lugre\n"
+           "print(sum(lugre.mounted_path.stats.cache_hits.values()),\n"
+           "      sum(lugre.mounted_path.stats.cache_misses.values()))\n")
+
+
+def test_the_mounted_path_is_cached_after_its_first_process(tmp_path):
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "cache"))
+    outputs = []
+    for _ in range(2):
+        done = subprocess.run([sys.executable, "-c", MOUNTED], env=env, capture_output=True,
+                              text=True, timeout=600)
+        assert done.returncode == 0, done.stderr
+        outputs.append(done.stdout.split("\n")[:2])
+    (first, cold), (second, warm) = outputs
+    assert first == second
+    assert cold == "0 1"        # compiled in the first process
+    assert warm == "1 0"        # loaded from the cache in the second

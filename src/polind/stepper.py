@@ -270,10 +270,9 @@ class Stepper:
         from polind.kernels.series import mounted_sample
 
         kernel = self._kernel
-        force = mounted_sample(kernel.step, kernel.force, kernel.tangent, kernel.mount,
-                               kernel.scalars, kernel.table, kernel.state, kernel.scratch,
-                               self._path, step, displacement, step_velocity, sample_velocity,
-                               self._path_load, load)
+        force = mounted_sample(kernel.runners, kernel.mount, kernel.scalars, kernel.table,
+                               kernel.state, kernel.scratch, self._path, step, displacement,
+                               step_velocity, sample_velocity, self._path_load, load)
         self._path_load = load
         return force
 

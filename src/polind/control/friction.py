@@ -317,6 +317,7 @@ class _SampleStep:
         self.step = functions.step
         self.force = functions.force
         self.tangent = functions.tangent
+        self.runners = functions.runner_module()
         self.size = model.flat_state(self.template).shape[0]
         self.constant_load = float(model.constant_load)
         self.takes_load = takes_load
@@ -365,7 +366,7 @@ class _SampleStep:
         from polind.kernels.series import mounted_sample
         # The load of the sample before is not part of the system state (NaN): the
         # runner brings the model to this step's load first.
-        return mounted_sample(self.step, self.force, self.tangent, mount, scalars, table, flat,
+        return mounted_sample(self.runners, mount, scalars, table, flat,
                               np.empty(2 * flat.shape[0]), np.zeros((6, 2)), self.dt,
                               displacement, step_velocity, sample_velocity, math.nan, load)
 

@@ -33,7 +33,7 @@ KERNELS_DIR = Path(__file__).resolve().parent
 
 
 def _kernel_files() -> list[Path]:
-    return sorted(KERNELS_DIR.glob("*.py"))
+    return sorted(KERNELS_DIR.rglob("*.py"))
 
 
 @lru_cache(maxsize=None)

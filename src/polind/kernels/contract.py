@@ -24,13 +24,13 @@ positive estimate is safe there: it brackets and falls back to bisection);
 damping from it.
 
 Everything else — prescribed paths (:func:`run_steps`), the implicit body of
-:mod:`polind.kernels.dynamics`, :class:`polind.Stepper`, a user's own
+:mod:`polind.kernels.dynamics`, the series spring of
+:mod:`polind.kernels.series`, :class:`polind.Stepper`, a user's own
 ``@njit`` loop — is written once on top of these three functions.  The
-templates take the model's functions as arguments; a model that wants its
-step inlined into the loop (worth it when a step costs nanoseconds) defines a
-one-line specialised runner that calls the template with its own functions
-as globals, because numba inlines ``inline="always"`` functions it sees as
-globals but not functions passed as arguments.
+templates here and there take the model's functions as arguments and are
+inlined; the runners that call them with one model's functions are written
+once too, in :mod:`polind.kernels.template`, from which every model's
+runner module is generated (:mod:`polind.kernels.generate`).
 """
 
 from __future__ import annotations
@@ -222,42 +222,17 @@ def block_views(source_t, source_motion, t, motion, velocity, out_force, a, b):
             out_force[a:b])
 
 
-@jit(inline="always")
-def motion_head(step, force, scalars, table, state, source_t, source_motion, t, motion,
-                by_velocity, start_position, start_velocity, continuing, position, velocity,
-                loads, constant_load, lo, first, out_force):
-    """A blocked motion kernel's first samples: ``(code, index, lo)``.
-
-    With ``first``, samples ``lo`` and ``lo + 1`` run through
-    :func:`run_motion` (the force at the start, and the first step at the
-    start's velocity) and ``lo`` moves on by one; without, nothing runs.
-    """
-    if not first:
-        return VALID, -1, lo
-    code, index = run_motion(step, force, scalars, table, state, source_t, source_motion, t,
-                             motion, by_velocity, start_position, start_velocity, continuing,
-                             position, velocity, loads, constant_load, lo, lo + 2, True,
-                             out_force)
-    return code, index, lo + 1
+@jit
+def no_blocks(scalars, by_velocity):
+    """A model without a blocked motion path (:mod:`polind.kernels.template`): never."""
+    return False
 
 
-@jit(cache=False)
-def run_motion_any(step, force, scalars, table, state, source_t, source_motion, t, motion,
-                   by_velocity, start_position, start_velocity, continuing, position, velocity,
-                   loads, constant_load, lo, hi, first, out_force):
-    """:func:`run_motion` for any model's functions (passed as arguments, not inlined)."""
-    return run_motion(step, force, scalars, table, state, source_t, source_motion, t, motion,
-                      by_velocity,
-                      start_position, start_velocity, continuing, position, velocity, loads,
-                      constant_load, lo, hi, first, out_force)
-
-
-@jit(cache=False)
-def run_steps_any(step, force, scalars, table, state, step_length, displacement, step_velocity,
-                  sample_velocity, loads, constant_load, lo, hi, first, out_force):
-    """:func:`run_steps` for any model's functions (passed as arguments, not inlined)."""
-    run_steps(step, force, scalars, table, state, step_length, displacement, step_velocity,
-              sample_velocity, loads, constant_load, lo, hi, first, out_force)
+@jit
+def no_block(scalars, table, state, source_t, source_motion, t, motion, velocity, out_force, a,
+             hi):
+    """The block of a model without one: never called (:func:`no_blocks` is false)."""
+    return -1
 
 
 @jit(fastmath=False)

@@ -340,33 +340,19 @@ def body_step(trial, commit, step_function, tangent_function, memoryless, rest_c
 
 
 @jit(inline="always")
-def bare_body_step(step_function, tangent_function, memoryless, rest_capacity, force_scale,
-                   mount, scalars, table, state, scratch, method, mass, drive_stiffness, step,
-                   external, position, velocity, previous_velocity, previous_step_velocity,
-                   history, normal_load):
-    """:func:`body_step` of a model with nothing around its contact."""
-    return body_step(bare_trial, bare_commit, step_function, tangent_function, memoryless,
-                     rest_capacity, force_scale, mount, scalars, table, state, scratch, method,
-                     mass, drive_stiffness, step, external, position, velocity,
-                     previous_velocity, previous_step_velocity, history, normal_load)
-
-
-@jit(inline="always")
-def integrate_system_template(step_function, tangent_function, arguments):
-    """:func:`integrate_system_with` for a model with nothing around its contact."""
-    integrate_system_with(bare_body_step, step_function, tangent_function, arguments)
-
-
-@jit(inline="always")
-def integrate_system_with(stepper, step_function, tangent_function, arguments):
+def integrate_system_with(stepper, arguments):
     """Integrate the 1-DOF system over the samples ``t``; fill the output arrays.
 
     ``arguments`` is the tuple ``(memoryless, rest_capacity, force_scale,
     scalars, table, state, t, mass, drive_stiffness, drive_velocity, offset,
     rate, amplitude, frequency, applied_steps, method, normal_load, x, v,
-    force, applied, start, stop, carry, mount)``.  ``stepper`` is
-    :func:`bare_body_step`, or the body step of a mounted contact
-    (:mod:`polind.kernels.series`), the one reader of ``mount``.
+    force, applied, start, stop, carry, mount)``.  ``stepper`` is one model's
+    :func:`body_step` with its functions bound (the ``body_step`` or
+    ``mounted_body_step`` of its runners, :mod:`polind.kernels.template`):
+    ``stepper(memoryless, rest_capacity, force_scale, mount, scalars, table,
+    state, scratch, method, mass, drive_stiffness, step, external, position,
+    velocity, previous_velocity, previous_step_velocity, history,
+    normal_load)``.
 
     On entry ``x[0]``, ``v[0]`` and ``force[0]`` hold the initial position,
     velocity and friction force, and ``state`` the model state; on exit
@@ -406,8 +392,7 @@ def integrate_system_with(stepper, step_function, tangent_function, arguments):
                                      rate, amplitude, angular_frequency)
         previous_velocity = v[k - 2] if k >= 2 else v[k - 1]
         x[k], v[k], force[k], previous_step_velocity, history = stepper(
-            step_function, tangent_function, memoryless, rest_capacity,
-            force_scale, mount, scalars, table, state, scratch, method, mass, drive_stiffness, step, external, x[k - 1],
+            memoryless, rest_capacity, force_scale, mount, scalars, table, state, scratch, method, mass, drive_stiffness, step, external, x[k - 1],
             v[k - 1], previous_velocity, previous_step_velocity, history, normal_load)
         if driven:
             applied[k] = applied_steps[k] if k < applied_steps.shape[0] else applied_steps[k - 1]
@@ -419,13 +404,7 @@ def integrate_system_with(stepper, step_function, tangent_function, arguments):
 
 
 @jit(inline="always")
-def advance_body_template(step_function, tangent_function, arguments):
-    """:func:`advance_body_with` for a model with nothing around its contact."""
-    advance_body_with(bare_body_step, step_function, tangent_function, arguments)
-
-
-@jit(inline="always")
-def advance_body_with(stepper, step_function, tangent_function, arguments):
+def advance_body_with(stepper, arguments):
     """One step of :class:`polind.Body`: :func:`body_step` with its state in ``body``.
 
     ``arguments`` is the tuple ``(memoryless, rest_capacity, force_scale,
@@ -433,14 +412,13 @@ def advance_body_with(stepper, step_function, tangent_function, arguments):
     normal_load, mount)``; ``scratch`` has twice the length of ``state``;
     ``body`` is ``[x_n, v_n, v_{n-1}, w_n, history, friction]`` and is
     updated in place.  The same arithmetic as
-    :func:`integrate_system_template` driven by ``applied_steps``, so a loop
+    :func:`integrate_system_with` driven by ``applied_steps``, so a loop
     of these equals one run of it.
     """
     (memoryless, rest_capacity, force_scale, scalars, table, state, scratch, method, mass, step,
      external, body, normal_load, mount) = arguments
     x, v, friction, step_velocity, history = stepper(
-        step_function, tangent_function, memoryless, rest_capacity, force_scale,
-        mount, scalars, table, state, scratch, method, mass, 0.0, step, external, body[0],
+        memoryless, rest_capacity, force_scale, mount, scalars, table, state, scratch, method, mass, 0.0, step, external, body[0],
         body[1], body[2], body[3], body[4] != 0.0, normal_load)
     body[2] = body[1]
     body[0] = x
@@ -448,20 +426,3 @@ def advance_body_with(stepper, step_function, tangent_function, arguments):
     body[3] = step_velocity
     body[4] = 1.0 if history else 0.0
     body[5] = friction
-
-
-# For a model whose functions come as arguments (a model of the user's own).  numba
-# cannot keep these in its on-disk cache (a function argument's type is the function
-# object itself), so they compile once per process; polind's own models have cached
-# specialisations (``*_integrate`` and ``*_body`` beside their steps).
-
-@jit(cache=False)
-def integrate_system(step_function, tangent_function, arguments):
-    """:func:`integrate_system_template` for any model's functions (compiled per process)."""
-    integrate_system_template(step_function, tangent_function, arguments)
-
-
-@jit(cache=False)
-def advance_body(step_function, tangent_function, arguments):
-    """:func:`advance_body_template` for any model's functions (compiled per process)."""
-    advance_body_template(step_function, tangent_function, arguments)

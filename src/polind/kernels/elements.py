@@ -34,9 +34,7 @@ import math
 import numpy as np
 
 from polind.kernels import jit
-from polind.kernels.contract import (VALID, block_views, cut_sample, motion_head, run_motion,
-                                     run_steps)
-from polind.kernels.dynamics import advance_body_template, integrate_system_template
+from polind.kernels.contract import block_views, cut_sample
 from polind.kernels.fastexp import decay_exp
 from polind.kernels.stribeck import sign, stribeck_curve
 
@@ -87,12 +85,18 @@ def element_properties(heights, counts, d, R, E_star, G_star, mu_s, out_k, out_W
 
 
 @jit(inline="always")
+def maxwell_slip_element(force, stiffness, breakaway_force, displacement):
+    """One Maxwell-slip element after an increment: ``clip(F + k dx, -W, W)``."""
+    return min(max(force + stiffness * displacement, -breakaway_force), breakaway_force)
+
+
+@jit(inline="always")
 def maxwell_slip_elements(element_force, stiffness, breakaway_force, displacement):
     """Advance Maxwell-slip elements by a monotone increment; return the sum of forces."""
     total = 0.0
     for i in range(element_force.shape[0]):
-        force = element_force[i] + stiffness[i] * displacement
-        force = min(max(force, -breakaway_force[i]), breakaway_force[i])
+        force = maxwell_slip_element(element_force[i], stiffness[i], breakaway_force[i],
+                                     displacement)
         element_force[i] = force
         total += force
     return total
@@ -228,93 +232,73 @@ def maxwell_slip_tangent(scalars, table, state, step):
                                     table[ELEMENT_CAPACITY]) + scalars[VISCOUS]
 
 
-@jit
-def maxwell_slip_path(scalars, table, state, step, displacement, step_velocity,
-                      sample_velocity, loads, constant_load, lo, hi, first, out_force):
-    """:func:`polind.kernels.contract.run_steps` specialised to Maxwell-slip."""
-    run_steps(maxwell_slip_step, maxwell_slip_force, scalars, table, state, step, displacement,
-              step_velocity, sample_velocity, loads, constant_load, lo, hi, first, out_force)
-
-
-#: Samples a Maxwell-slip motion block cuts at once (:func:`maxwell_slip_motion`).
+#: Samples a Maxwell-slip motion block cuts at once (:func:`maxwell_slip_block`).
 MOTION_BLOCK = 256
 
 
 @jit
-def maxwell_slip_motion(scalars, table, state, source_t, source_motion, t, motion, by_velocity,
-                        start_position, start_velocity, continuing, position, velocity, loads,
-                        constant_load, lo, hi, first, out_force):
-    """:func:`polind.kernels.contract.run_motion` specialised to Maxwell-slip, two samples a pass.
+def maxwell_slip_blocks(scalars, by_velocity):
+    """Whether a motion runs in Maxwell-slip's blocks: along positions."""
+    return not by_velocity
 
-    Along positions, each block of :data:`MOTION_BLOCK` samples is first
-    copied, checked and cut into steps in a pass with no dependence between
-    samples; the elements are then advanced two samples per pass over them
-    (``F_i <- clip(F_i + k_i dx, -W_i, W_i)`` twice, each sample's sum kept),
-    so each element's stiffness, capacity and force are loaded once for two
-    steps.  The forces are those of one sample at a time, summed in another
-    order (within a few ulp).  Velocities, a block with a bad sample and an
-    odd last sample run through the one-pass template, which also finds and
-    reports a bad sample.
+
+@jit
+def maxwell_slip_block(scalars, table, state, source_t, source_motion, t, motion, velocity,
+                       out_force, a, hi):
+    """The samples ``a ..`` of a motion in one block, two samples a pass: the sample after it, or -1.
+
+    The block of :func:`polind.kernels.template.motion` (along positions).
+    The block's :data:`MOTION_BLOCK` samples are first copied, checked and
+    cut into steps in a pass with no dependence between samples; the
+    elements are then advanced two samples per pass over them
+    (:func:`maxwell_slip_element` twice, each sample's sum kept), so each
+    element's stiffness, capacity and force are loaded once for two steps.
+    The forces are those of one sample at a time, summed in another order
+    (within a few ulp).  A block with a bad sample returns -1 with the state
+    untouched.
     """
-    if by_velocity or hi - lo < 3:
-        return run_motion(maxwell_slip_step, maxwell_slip_force, scalars, table, state,
-                          source_t, source_motion, t, motion, by_velocity, start_position,
-                          start_velocity, continuing, position, velocity, loads, constant_load,
-                          lo, hi, first, out_force)
-    code, index, lo = motion_head(maxwell_slip_step, maxwell_slip_force, scalars, table, state, source_t,
-                                  source_motion, t, motion, by_velocity, start_position,
-                                  start_velocity, continuing, position, velocity, loads,
-                                  constant_load, lo, first, out_force)
-    if code != VALID:
-        return code, index
     stiffness = table[ELEMENT_STIFFNESS]
     capacity = table[ELEMENT_CAPACITY]
     viscous = scalars[VISCOUS]
     n = stiffness.shape[0]
     element_force = state[:n]
     displacement = np.empty(MOTION_BLOCK + 1)
-    a = lo + 1
-    while a < hi:
-        b = min(a + MOTION_BLOCK, hi)
-        m = b - a
-        t_in, x_in, t_out, x_out, w_out, f_out = block_views(source_t, source_motion, t, motion,
-                                                              velocity, out_force, a, b)
-        bad = 0
-        for i in range(m):
-            h, dx, w, ok = cut_sample(t_in, x_in, t_out, x_out, i)
-            w_out[i] = w
-            displacement[i] = dx
-            bad += 0 if ok else 1
-        if bad != 0:            # the template finds the bad sample and reports it
-            return run_motion(maxwell_slip_step, maxwell_slip_force, scalars, table, state,
-                              source_t, source_motion, t, motion, by_velocity, start_position,
-                              start_velocity, continuing, position, velocity, loads,
-                              constant_load, a - 1, hi, False, out_force)
-        if m % 2 == 1:
-            # An odd last sample is paired with a step of zero (which moves no element),
-            # so every sample's force comes from the one loop below, whichever place it
-            # has in a pair: a run cut into chunks gives the same bits as one run.
-            displacement[m] = 0.0
-        i = 0
-        while i < m:
-            first_step = displacement[i]
-            second_step = displacement[i + 1]
-            first_total = 0.0
-            second_total = 0.0
-            for j in range(n):
-                limit = capacity[j]
-                k = stiffness[j]
-                force = min(max(element_force[j] + k * first_step, -limit), limit)
-                first_total += force
-                force = min(max(force + k * second_step, -limit), limit)
-                second_total += force
-                element_force[j] = force
-            f_out[i] = first_total + viscous * w_out[i]
-            if i + 1 < m:
-                f_out[i + 1] = second_total + viscous * w_out[i + 1]
-            i += 2
-        a = b
-    return VALID, -1
+    b = min(a + MOTION_BLOCK, hi)
+    m = b - a
+    t_in, x_in, t_out, x_out, w_out, f_out = block_views(source_t, source_motion, t, motion,
+                                                          velocity, out_force, a, b)
+    bad = 0
+    for i in range(m):
+        h, dx, w, ok = cut_sample(t_in, x_in, t_out, x_out, i)
+        w_out[i] = w
+        displacement[i] = dx
+        bad += 0 if ok else 1
+    if bad != 0:
+        return -1
+    if m % 2 == 1:
+        # An odd last sample is paired with a step of zero (which moves no element),
+        # so every sample's force comes from the one loop below, whichever place it
+        # has in a pair: a run cut into chunks gives the same bits as one run.
+        displacement[m] = 0.0
+    i = 0
+    while i < m:
+        first_step = displacement[i]
+        second_step = displacement[i + 1]
+        first_total = 0.0
+        second_total = 0.0
+        for j in range(n):
+            limit = capacity[j]
+            k = stiffness[j]
+            force = maxwell_slip_element(element_force[j], k, limit, first_step)
+            first_total += force
+            force = maxwell_slip_element(force, k, limit, second_step)
+            second_total += force
+            element_force[j] = force
+        f_out[i] = first_total + viscous * w_out[i]
+        if i + 1 < m:
+            f_out[i + 1] = second_total + viscous * w_out[i + 1]
+        i += 2
+    return b
 
 
 @jit(inline="always")
@@ -355,45 +339,3 @@ def gms_force(scalars, table, state, sample_velocity, normal_load):
 def gms_tangent(scalars, table, state, step):
     n = table.shape[1]
     return step * stuck_stiffness(table[ELEMENT_STIFFNESS], state[n:2 * n]) + scalars[VISCOUS]
-
-
-@jit
-def gms_path(scalars, table, state, step, displacement, step_velocity, sample_velocity,
-             loads, constant_load, lo, hi, first, out_force):
-    """:func:`polind.kernels.contract.run_steps` specialised to GMS."""
-    run_steps(gms_step, gms_force, scalars, table, state, step, displacement, step_velocity,
-              sample_velocity, loads, constant_load, lo, hi, first, out_force)
-
-
-@jit
-def gms_motion(scalars, table, state, source_t, source_motion, t, motion, by_velocity,
-               start_position, start_velocity, continuing, position, velocity, loads,
-               constant_load, lo, hi, first, out_force):
-    """:func:`polind.kernels.contract.run_motion` specialised to GMS."""
-    return run_motion(gms_step, gms_force, scalars, table, state, source_t, source_motion, t,
-                      motion, by_velocity, start_position, start_velocity, continuing,
-                      position, velocity, loads, constant_load, lo, hi, first, out_force)
-
-
-@jit
-def maxwell_slip_integrate(arguments):
-    """:func:`polind.kernels.dynamics.integrate_system_template` specialised to Maxwell-slip (cacheable)."""
-    integrate_system_template(maxwell_slip_step, maxwell_slip_tangent, arguments)
-
-
-@jit
-def maxwell_slip_body(arguments):
-    """:func:`polind.kernels.dynamics.advance_body_template` specialised to Maxwell-slip (cacheable)."""
-    advance_body_template(maxwell_slip_step, maxwell_slip_tangent, arguments)
-
-
-@jit
-def gms_integrate(arguments):
-    """:func:`polind.kernels.dynamics.integrate_system_template` specialised to GMS (cacheable)."""
-    integrate_system_template(gms_step, gms_tangent, arguments)
-
-
-@jit
-def gms_body(arguments):
-    """:func:`polind.kernels.dynamics.advance_body_template` specialised to GMS (cacheable)."""
-    advance_body_template(gms_step, gms_tangent, arguments)

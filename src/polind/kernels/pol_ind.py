@@ -43,8 +43,6 @@ from __future__ import annotations
 import math
 
 from polind.kernels import jit
-from polind.kernels.contract import run_motion, run_steps
-from polind.kernels.dynamics import advance_body_template, integrate_system_template
 from polind.kernels.elements import (ATTRACTION, ELEMENT_CAPACITY, ELEMENT_INVERSE,
                                      ELEMENT_STIFFNESS, STRIBECK_EXPONENT, STRIBECK_SHAPE,
                                      STRIBECK_VELOCITY, VISCOUS, element_properties,
@@ -386,33 +384,3 @@ def force_with(set_load_function, scalars, table, state, sample_velocity, normal
 @jit(inline="always")
 def pol_ind_tangent(scalars, table, state, step):
     return gms_tangent(scalars, table, state, step)
-
-
-@jit
-def pol_ind_path(scalars, table, state, step, displacement, step_velocity, sample_velocity,
-                 loads, constant_load, lo, hi, first, out_force):
-    """:func:`polind.kernels.contract.run_steps` specialised to Pol-Ind."""
-    run_steps(pol_ind_step, pol_ind_force, scalars, table, state, step, displacement,
-              step_velocity, sample_velocity, loads, constant_load, lo, hi, first, out_force)
-
-
-@jit
-def pol_ind_motion(scalars, table, state, source_t, source_motion, t, motion, by_velocity,
-                   start_position, start_velocity, continuing, position, velocity, loads,
-                   constant_load, lo, hi, first, out_force):
-    """:func:`polind.kernels.contract.run_motion` specialised to Pol-Ind."""
-    return run_motion(pol_ind_step, pol_ind_force, scalars, table, state, source_t, source_motion, t,
-                      motion, by_velocity, start_position, start_velocity, continuing,
-                      position, velocity, loads, constant_load, lo, hi, first, out_force)
-
-
-@jit
-def pol_ind_integrate(arguments):
-    """:func:`polind.kernels.dynamics.integrate_system_template` specialised to Pol-Ind (cacheable)."""
-    integrate_system_template(settled_step, pol_ind_tangent, arguments)
-
-
-@jit
-def pol_ind_body(arguments):
-    """:func:`polind.kernels.dynamics.advance_body_template` specialised to Pol-Ind (cacheable)."""
-    advance_body_template(settled_step, pol_ind_tangent, arguments)

@@ -25,8 +25,6 @@ element counts there are the Hertz weights ``n_j sqrt(R_j / R)``).
 from __future__ import annotations
 
 from polind.kernels import jit
-from polind.kernels.contract import run_motion, run_steps
-from polind.kernels.dynamics import advance_body_template, integrate_system_template
 from polind.kernels.elements import ELEMENT_STIFFNESS
 from polind.kernels.plastic import plastic_element_properties
 from polind.kernels.plastic_separation import (CRITICAL_FACTOR, PLASTIC_SCALE, SIZE,
@@ -116,33 +114,3 @@ def plastic_settled_step(scalars, table, state, step, displacement, step_velocit
 @jit(inline="always")
 def plastic_force(scalars, table, state, sample_velocity, normal_load):
     return force_with(plastic_set_load, scalars, table, state, sample_velocity, normal_load)
-
-
-@jit
-def plastic_path(scalars, table, state, step, displacement, step_velocity, sample_velocity,
-                 loads, constant_load, lo, hi, first, out_force):
-    """:func:`polind.kernels.contract.run_steps` specialised to elastic-plastic Pol-Ind."""
-    run_steps(plastic_step, plastic_force, scalars, table, state, step, displacement,
-              step_velocity, sample_velocity, loads, constant_load, lo, hi, first, out_force)
-
-
-@jit
-def plastic_motion(scalars, table, state, source_t, source_motion, t, motion, by_velocity,
-                   start_position, start_velocity, continuing, position, velocity, loads,
-                   constant_load, lo, hi, first, out_force):
-    """:func:`polind.kernels.contract.run_motion` specialised to elastic-plastic Pol-Ind."""
-    return run_motion(plastic_step, plastic_force, scalars, table, state, source_t, source_motion,
-                      t, motion, by_velocity, start_position, start_velocity, continuing,
-                      position, velocity, loads, constant_load, lo, hi, first, out_force)
-
-
-@jit
-def plastic_integrate(arguments):
-    """:func:`polind.kernels.dynamics.integrate_system_template` for elastic-plastic Pol-Ind."""
-    integrate_system_template(plastic_settled_step, pol_ind_tangent, arguments)
-
-
-@jit
-def plastic_body(arguments):
-    """:func:`polind.kernels.dynamics.advance_body_template` for elastic-plastic Pol-Ind."""
-    advance_body_template(plastic_settled_step, pol_ind_tangent, arguments)

@@ -30,10 +30,12 @@ The force reported at a sample is the contact's, which equals the spring's
 The first sample of a run reports the spring's force of the state (0 for a
 model at rest): the spring carries what the contact carries.
 
-The runners here take the model's functions as arguments, so numba compiles
-them once per process per model (it cannot keep them in its on-disk cache);
-a model with nothing around its contact runs its own cached specialisations
-instead (:mod:`polind.kernels.contract`).
+The templates here take the model's functions as arguments and are inlined
+into each model's runners (:mod:`polind.kernels.template`): its
+``mounted_step`` (:func:`mounted_step_with`, the spring's solve, compiled on
+its own), ``mounted_path`` (:func:`run_mounted_with`) and the body of a
+mounted contact, all kept in numba's on-disk cache like the model's other
+runners.
 """
 
 from __future__ import annotations
@@ -42,8 +44,7 @@ import math
 
 from polind.kernels import jit
 from polind.kernels.contract import sample_load
-from polind.kernels.dynamics import (advance_body_with, body_step, integrate_system_with,
-                                     solve_step)
+from polind.kernels.dynamics import solve_step
 from polind.kernels.mount import (CONTACT_POSITION, CONTACT_VELOCITY, FORCE_SCALE, MEMORYLESS,
                                   REST_CAPACITY, SPRING_FORCE, STIFFNESS, contact_step,
                                   load_ratio, scaled_force)
@@ -63,16 +64,17 @@ def contact_trial(step_function, tangent_function, memoryless, mount, scalars, t
     return force, load_ratio(mount, normal_load) * tangent_function(scalars, table, work, step)
 
 
-@jit(cache=False)
-def mounted_step(step_function, tangent_function, mount, scalars, table, state, scratch, step,
-                 displacement, step_velocity, sample_velocity, normal_load):
+@jit(inline="always")
+def mounted_step_with(step_function, tangent_function, mount, scalars, table, state, scratch,
+                      step, displacement, step_velocity, sample_velocity, normal_load):
     """One step of the mounted contact: ``(F, du, w)``; ``state`` advanced, ``mount`` untouched.
 
     ``displacement`` and ``step_velocity`` are the far end's (``x``);
-    ``scratch`` holds at least one state for the spring's solve.  Compiled
-    on its own (not inlined), once per model and process, and called by
-    every runner below: inlined into the body's solver it would put one
-    solver inside another and multiply the compile time.
+    ``scratch`` holds at least one state for the spring's solve.  A model's
+    runners compile it on its own (their ``mounted_step``), called by the
+    other templates below as their ``mounted_step`` argument: inlined into
+    the body's solver it would put one solver inside another and multiply
+    the compile time.
     """
     stiffness = mount[STIFFNESS]
     if stiffness == math.inf:
@@ -94,12 +96,17 @@ def mounted_step(step_function, tangent_function, mount, scalars, table, state, 
 
 
 @jit(inline="always")
-def mounted_commit(step_function, tangent_function, mount, scalars, table, state, scratch, step,
+def mounted_commit(mounted_step, tangent_function, mount, scalars, table, state, scratch, step,
                    displacement, step_velocity, sample_velocity, normal_load):
-    """:func:`mounted_step` on the real state, remembering the spring's force and the contact."""
+    """``mounted_step`` on the real state, remembering the spring's force and the contact.
+
+    ``mounted_step`` is a model's :func:`mounted_step_with` with its
+    functions bound; ``tangent_function`` is not used (the body's solver
+    passes it to every commit).
+    """
     force, contact_displacement, contact_velocity = mounted_step(
-        step_function, tangent_function, mount, scalars, table, state, scratch, step,
-        displacement, step_velocity, sample_velocity, normal_load)
+        mount, scalars, table, state, scratch, step, displacement, step_velocity,
+        sample_velocity, normal_load)
     mount[SPRING_FORCE] = force
     mount[CONTACT_POSITION] += contact_displacement
     mount[CONTACT_VELOCITY] = contact_velocity
@@ -107,13 +114,14 @@ def mounted_commit(step_function, tangent_function, mount, scalars, table, state
 
 
 @jit(inline="always")
-def mounted_trial(step_function, tangent_function, memoryless, mount, scalars, table, state,
+def mounted_trial(mounted_step, tangent_function, memoryless, mount, scalars, table, state,
                   scratch, velocity, step, sample_slope, sample_offset, normal_load):
     """The body solver's trial of a mounted contact: ``(F(w), dF/dw)`` of the spring and contact.
 
-    ``scratch`` holds two states: the trial's and, behind it, the spring's
-    solve.  The tangent of the spring (``k_s h``) in series with the
-    contact's.
+    ``mounted_step`` as in :func:`mounted_commit`; ``tangent_function`` is
+    the model's.  ``scratch`` holds two states: the trial's and, behind it,
+    the spring's solve.  The tangent of the spring (``k_s h``) in series
+    with the contact's.
     """
     n = state.shape[0]
     work = scratch[:n]
@@ -121,8 +129,8 @@ def mounted_trial(step_function, tangent_function, memoryless, mount, scalars, t
         work[i] = state[i]
     sample_velocity = velocity if memoryless else sample_slope * velocity + sample_offset
     force, contact_displacement, contact_velocity = mounted_step(
-        step_function, tangent_function, mount, scalars, table, work, scratch[n:], step,
-        velocity * step, velocity, sample_velocity, normal_load)
+        mount, scalars, table, work, scratch[n:], step, velocity * step, velocity,
+        sample_velocity, normal_load)
     tangent = load_ratio(mount, normal_load) * tangent_function(scalars, table, work, step)
     spring = mount[STIFFNESS] * step
     if spring < math.inf:
@@ -131,11 +139,15 @@ def mounted_trial(step_function, tangent_function, memoryless, mount, scalars, t
     return force, tangent
 
 
-@jit(cache=False)
-def run_mounted(step_function, force_function, tangent_function, mount, scalars, table, state,
-                scratch, step_length, displacement, step_velocity, sample_velocity, loads,
-                constant_load, lo, hi, first, out_force):
-    """:func:`polind.kernels.contract.run_steps` for a mounted contact (any model's functions)."""
+@jit(inline="always")
+def run_mounted_with(mounted_step, force_function, mount, scalars, table, state, scratch,
+                     step_length, displacement, step_velocity, sample_velocity, loads,
+                     constant_load, lo, hi, first, out_force):
+    """:func:`polind.kernels.contract.run_steps` for a mounted contact.
+
+    ``mounted_step`` as in :func:`mounted_commit`; ``force_function`` is the
+    model's ``force``.
+    """
     if first:
         load = sample_load(loads, constant_load, lo)
         if mount[STIFFNESS] < math.inf:
@@ -152,53 +164,24 @@ def run_mounted(step_function, force_function, tangent_function, mount, scalars,
             # its elements there): the spring's trials run on copies.
             force_function(scalars, table, state, sample_velocity[k - 1], load)
             previous_load = load
-        out_force[k] = mounted_commit(step_function, tangent_function, mount, scalars, table,
+        out_force[k] = mounted_commit(mounted_step, force_function, mount, scalars, table,
                                       state, scratch, step_length[k], displacement[k],
                                       step_velocity[k], sample_velocity[k], load)
 
 
-def mounted_sample(step_function, force_function, tangent_function, mount, scalars, table,
-                   state, scratch, path, step, displacement, step_velocity, sample_velocity,
-                   previous_load, normal_load):
-    """One sample of a mounted contact, called from Python: a one-step path through :func:`run_mounted`.
+def mounted_sample(runners, mount, scalars, table, state, scratch, path, step, displacement,
+                   step_velocity, sample_velocity, previous_load, normal_load):
+    """One sample of a mounted contact, called from Python: a one-step path of its runners.
 
-    ``path`` is a (6, 2) float64 work array; ``previous_load`` the load of the
-    sample before (NaN if unknown: the model is then brought to ``normal_load``
-    first, as :func:`run_mounted` does whenever the load changes).  Returns
-    the force [N]; ``state`` and ``mount`` are advanced.
+    ``runners`` are the model's (:mod:`polind.kernels.template`); ``path`` is
+    a (6, 2) float64 work array; ``previous_load`` the load of the sample
+    before (NaN if unknown: the model is then brought to ``normal_load``
+    first, as :func:`run_mounted_with` does whenever the load changes).
+    Returns the force [N]; ``state`` and ``mount`` are advanced.
     """
     path[0, 1], path[1, 1], path[2, 1], path[3, 1] = step, displacement, step_velocity, \
         sample_velocity
     path[4, 0], path[4, 1] = previous_load, normal_load
-    run_mounted(step_function, force_function, tangent_function, mount, scalars, table, state,
-                scratch, path[0], path[1], path[2], path[3], path[4], normal_load, 0, 2, False,
-                path[5])
+    runners.mounted_path(mount, scalars, table, state, scratch, path[0], path[1], path[2],
+                         path[3], path[4], normal_load, 0, 2, False, path[5])
     return float(path[5, 1])
-
-
-@jit(cache=False)
-def mounted_body_step(step_function, tangent_function, memoryless, rest_capacity, force_scale,
-                      mount, scalars, table, state, scratch, method, mass, drive_stiffness, step,
-                      external, position, velocity, previous_velocity, previous_step_velocity,
-                      history, normal_load):
-    """:func:`polind.kernels.dynamics.body_step` of a mounted contact, compiled on its own.
-
-    The two runners below call it rather than inline it, so numba compiles
-    the body's solver around the spring's solver once per model, not twice.
-    """
-    return body_step(mounted_trial, mounted_commit, step_function, tangent_function, memoryless,
-                     rest_capacity, force_scale, mount, scalars, table, state, scratch, method,
-                     mass, drive_stiffness, step, external, position, velocity,
-                     previous_velocity, previous_step_velocity, history, normal_load)
-
-
-@jit(cache=False)
-def integrate_system_mounted(step_function, tangent_function, arguments):
-    """:func:`polind.kernels.dynamics.integrate_system_with` for a mounted contact."""
-    integrate_system_with(mounted_body_step, step_function, tangent_function, arguments)
-
-
-@jit(cache=False)
-def advance_body_mounted(step_function, tangent_function, arguments):
-    """:func:`polind.kernels.dynamics.advance_body_with` for a mounted contact."""
-    advance_body_with(mounted_body_step, step_function, tangent_function, arguments)

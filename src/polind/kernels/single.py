@@ -13,13 +13,11 @@ import math
 import numpy as np
 
 from polind.kernels import jit
-from polind.kernels.contract import (VALID, block_views, cut_sample, motion_head, run_motion,
-                                     run_steps)
-from polind.kernels.dynamics import advance_body_template, integrate_system_template
+from polind.kernels.contract import block_views, cut_sample
 from polind.kernels.elements import (element_sum, elastic_stiffness, maxwell_slip_elements,
                                      maxwell_slip_trial)
 from polind.kernels.fastexp import decay_exp
-from polind.kernels.stribeck import RATIONAL, sign, stribeck_curve
+from polind.kernels.stribeck import power_ratio, sign, stribeck_curve, stribeck_level
 
 
 @jit(inline="always")
@@ -79,24 +77,6 @@ def dahl_tangent(scalars, table, state, step):
     return scalars[DAHL_STIFFNESS] * step
 
 
-@jit
-def dahl_path(scalars, table, state, step, displacement, step_velocity, sample_velocity,
-              loads, constant_load, lo, hi, first, out_force):
-    """:func:`polind.kernels.contract.run_steps` specialised to Dahl."""
-    run_steps(dahl_step, dahl_force, scalars, table, state, step, displacement, step_velocity,
-              sample_velocity, loads, constant_load, lo, hi, first, out_force)
-
-
-@jit
-def dahl_motion(scalars, table, state, source_t, source_motion, t, motion, by_velocity,
-                start_position, start_velocity, continuing, position, velocity, loads,
-                constant_load, lo, hi, first, out_force):
-    """:func:`polind.kernels.contract.run_motion` specialised to Dahl."""
-    return run_motion(dahl_step, dahl_force, scalars, table, state, source_t, source_motion, t,
-                      motion, by_velocity, start_position, start_velocity, continuing,
-                      position, velocity, loads, constant_load, lo, hi, first, out_force)
-
-
 # --- LuGre: scalars below, state [z] ------------------------------------------------------
 
 LUGRE_VISCOUS = 0      # sigma2 [N s/m]
@@ -118,16 +98,33 @@ def _lugre_curve(scalars, velocity):
 
 
 @jit(inline="always")
-def _lugre_output(scalars, z, sample_velocity, g):
-    """``sigma0 z + sigma1 dz/dt + sigma2 v`` with ``dz/dt`` of the state equation at the sample."""
+def lugre_relaxation(stiffness, velocity, g):
+    """``(z_ss, r)``: the steady deflection ``sgn(v) g / sigma0`` and the rate ``sigma0 |v| / g``.
+
+    LuGre's state equation at a constant velocity is ``dz/dt = v - r z``,
+    i.e. ``z`` relaxes towards ``z_ss`` as ``exp(-r t)`` (:ref:`guide-lugre`).
+    """
+    return sign(velocity) * g / stiffness, stiffness * abs(velocity) / g
+
+
+@jit(inline="always")
+def lugre_output(z, velocity, rate, stiffness, damping, viscous):
+    """``sigma0 z + sigma1 dz/dt + sigma2 v`` with ``dz/dt = v - r z`` (:func:`lugre_relaxation`)."""
+    return stiffness * z + damping * (velocity - rate * z) + viscous * velocity
+
+
+@jit(inline="always")
+def _lugre_force_at(scalars, z, velocity):
+    """The output at a sample's velocity (its own curve and rate)."""
     stiffness = scalars[LUGRE_STIFFNESS]
-    rate = sample_velocity - stiffness * abs(sample_velocity) * z / g
-    return stiffness * z + scalars[LUGRE_DAMPING] * rate + scalars[LUGRE_VISCOUS] * sample_velocity
+    steady, rate = lugre_relaxation(stiffness, velocity, _lugre_curve(scalars, velocity))
+    return lugre_output(z, velocity, rate, stiffness, scalars[LUGRE_DAMPING],
+                        scalars[LUGRE_VISCOUS])
 
 
 @jit(inline="always")
 def lugre_force(scalars, table, state, sample_velocity, normal_load):
-    return _lugre_output(scalars, state[0], sample_velocity, _lugre_curve(scalars, sample_velocity))
+    return _lugre_force_at(scalars, state[0], sample_velocity)
 
 
 @jit(inline="always")
@@ -135,19 +132,20 @@ def lugre_step(scalars, table, state, step, displacement, step_velocity, sample_
                normal_load):
     """LuGre over one step with the exact exponential update (:ref:`guide-lugre`).
 
-    The output's ``dz/dt`` is the state equation at the sample (the state
-    after the step, the sample's velocity).
+    ``z <- z_ss + (z - z_ss) exp(-r h)`` at the step's velocity; the
+    output's ``dz/dt`` is the state equation at the sample (the state after
+    the step, the sample's velocity).
     """
     z = state[0]
-    g = _lugre_curve(scalars, step_velocity)
+    stiffness = scalars[LUGRE_STIFFNESS]
+    steady, rate = lugre_relaxation(stiffness, step_velocity, _lugre_curve(scalars, step_velocity))
     if step_velocity != 0.0:
-        stiffness = scalars[LUGRE_STIFFNESS]
-        steady = sign(step_velocity) * g / stiffness
-        z = steady + (z - steady) * math.exp(-stiffness * abs(step_velocity) * step / g)
+        z = steady + (z - steady) * math.exp(-rate * step)
         state[0] = z
     if sample_velocity != step_velocity:   # with x given they are equal: one curve, not two
-        g = _lugre_curve(scalars, sample_velocity)
-    return _lugre_output(scalars, z, sample_velocity, g)
+        return _lugre_force_at(scalars, z, sample_velocity)
+    return lugre_output(z, sample_velocity, rate, stiffness, scalars[LUGRE_DAMPING],
+                        scalars[LUGRE_VISCOUS])
 
 
 @jit(inline="always")
@@ -155,92 +153,67 @@ def lugre_tangent(scalars, table, state, step):
     return scalars[LUGRE_STIFFNESS] * step + scalars[LUGRE_DAMPING] + scalars[LUGRE_VISCOUS]
 
 
-@jit
-def lugre_path(scalars, table, state, step, displacement, step_velocity, sample_velocity,
-               loads, constant_load, lo, hi, first, out_force):
-    """:func:`polind.kernels.contract.run_steps` specialised to LuGre."""
-    run_steps(lugre_step, lugre_force, scalars, table, state, step, displacement, step_velocity,
-              sample_velocity, loads, constant_load, lo, hi, first, out_force)
-
-
-#: Samples a LuGre motion block prepares at once (:func:`lugre_motion`).
+#: Samples a LuGre motion block prepares at once (:func:`lugre_block`).
 LUGRE_BLOCK = 512
 
 
 @jit
-def lugre_motion(scalars, table, state, source_t, source_motion, t, motion, by_velocity,
-                 start_position, start_velocity, continuing, position, velocity, loads,
-                 constant_load, lo, hi, first, out_force):
-    """:func:`polind.kernels.contract.run_motion` specialised to LuGre, in blocks of two passes.
-
-    The exact step's two exponentials (the Stribeck curve ``g(w)`` and the
-    decay ``exp(-sigma0 |w| h / g)``) depend on the path only, not on the
-    state ``z``.  Along positions with a Stribeck exponent of 1 or 2, each
-    block of :data:`LUGRE_BLOCK` samples is therefore prepared in a first
-    pass with no dependence between samples (copying and checking the
-    samples, the step velocities, both exponentials with the vectorisable
-    :func:`~polind.kernels.fastexp.decay_exp`), which the compiler turns
-    into SIMD code, and the second pass runs the recurrence
-    ``z <- z_ss + (z - z_ss) exp(...)`` and the output force alone.  A block
-    with a bad sample, velocities, or another exponent run through the
-    one-pass template instead, which finds and reports the bad sample.
-    """
+def lugre_blocks(scalars, by_velocity):
+    """Whether a motion runs in LuGre's blocks: positions, a Stribeck exponent of 1 or 2."""
     exponent = scalars[LUGRE_STRIBECK_EXPONENT]
-    if by_velocity or not (exponent == 2.0 or exponent == 1.0) or hi - lo < 3:
-        return run_motion(lugre_step, lugre_force, scalars, table, state, source_t,
-                          source_motion, t, motion, by_velocity, start_position, start_velocity,
-                          continuing, position, velocity, loads, constant_load, lo, hi, first,
-                          out_force)
-    code, index, lo = motion_head(lugre_step, lugre_force, scalars, table, state, source_t,
-                                  source_motion, t, motion, by_velocity, start_position,
-                                  start_velocity, continuing, position, velocity, loads,
-                                  constant_load, lo, first, out_force)
-    if code != VALID:
-        return code, index
+    return not by_velocity and (exponent == 2.0 or exponent == 1.0)
+
+
+@jit
+def lugre_block(scalars, table, state, source_t, source_motion, t, motion, velocity, out_force,
+                a, hi):
+    """The samples ``a ..`` of a motion in one block of two passes: the sample after it, or -1.
+
+    The block of :func:`polind.kernels.template.motion` (where
+    :func:`lugre_blocks`).  The exact step's two exponentials (the Stribeck
+    curve ``g(w)`` and the decay ``exp(-r h)``) depend on the path only, not
+    on the state ``z``: a first pass with no dependence between samples
+    copies and checks the samples and computes the step velocities, ``z_ss``,
+    ``r`` and the decays (:func:`lugre_relaxation`, with the vectorisable
+    :func:`~polind.kernels.fastexp.decay_exp`), which the compiler turns into
+    SIMD code; the second runs the recurrence ``z <- z_ss + (z - z_ss)
+    decay`` and the output (:func:`lugre_output`) alone.  A block with a bad
+    sample returns -1 with the state untouched.
+    """
+    b = min(a + LUGRE_BLOCK, hi)
+    m = b - a
+    t_in, x_in, t_out, x_out, w_out, f_out = block_views(source_t, source_motion, t, motion,
+                                                          velocity, out_force, a, b)
     stiffness = scalars[LUGRE_STIFFNESS]
     damping = scalars[LUGRE_DAMPING]
     viscous = scalars[LUGRE_VISCOUS]
     coulomb = scalars[LUGRE_COULOMB]
-    drop = scalars[LUGRE_STATIC] - coulomb
-    inverse_vs = 1.0 / scalars[LUGRE_STRIBECK_VELOCITY]
-    squared = exponent == 2.0
-    rational = scalars[LUGRE_STRIBECK_SHAPE] == RATIONAL
-    steady = np.empty(LUGRE_BLOCK)
-    decay = np.empty(LUGRE_BLOCK)
-    rate = np.empty(LUGRE_BLOCK)
-    a = lo + 1
-    while a < hi:
-        b = min(a + LUGRE_BLOCK, hi)
-        m = b - a
-        t_in, x_in, t_out, x_out, w_out, f_out = block_views(source_t, source_motion, t, motion,
-                                                              velocity, out_force, a, b)
-        bad = 0
-        for i in range(m):
-            h, dx, w, ok = cut_sample(t_in, x_in, t_out, x_out, i)
-            w_out[i] = w
-            bad += 0 if ok else 1
-            ratio = abs(w) * inverse_vs
-            ratio = ratio * ratio if squared else ratio
-            shape = 1.0 / (1.0 + ratio) if rational else decay_exp(-ratio)
-            g = coulomb + drop * shape
-            steady[i] = (g if w >= 0.0 else -g) / stiffness
-            relaxation = stiffness * abs(w) / g
-            rate[i] = relaxation
-            decay[i] = decay_exp(-relaxation * h)
-        if bad != 0:            # the template finds the bad sample and reports it
-            return run_motion(lugre_step, lugre_force, scalars, table, state, source_t,
-                              source_motion, t, motion, by_velocity, start_position,
-                              start_velocity, continuing, position, velocity, loads,
-                              constant_load, a - 1, hi, False, out_force)
-        z = state[0]
-        for i in range(m):
-            w = w_out[i]
-            if w != 0.0:
-                z = steady[i] + (z - steady[i]) * decay[i]
-            f_out[i] = stiffness * z + damping * (w - rate[i] * z) + viscous * w
-        state[0] = z
-        a = b
-    return VALID, -1
+    static = scalars[LUGRE_STATIC]
+    stribeck_velocity = scalars[LUGRE_STRIBECK_VELOCITY]
+    shape = scalars[LUGRE_STRIBECK_SHAPE]
+    squared = scalars[LUGRE_STRIBECK_EXPONENT] == 2.0
+    steady = np.empty(m)
+    decay = np.empty(m)
+    rate = np.empty(m)
+    bad = 0
+    for i in range(m):
+        h, dx, w, ok = cut_sample(t_in, x_in, t_out, x_out, i)
+        w_out[i] = w
+        bad += 0 if ok else 1
+        g = stribeck_level(decay_exp, power_ratio(w, stribeck_velocity, squared), coulomb,
+                           static, shape)
+        steady[i], rate[i] = lugre_relaxation(stiffness, w, g)
+        decay[i] = decay_exp(-rate[i] * h)
+    if bad != 0:
+        return -1
+    z = state[0]
+    for i in range(m):
+        w = w_out[i]
+        if w != 0.0:
+            z = steady[i] + (z - steady[i]) * decay[i]
+        f_out[i] = lugre_output(z, w, rate[i], stiffness, damping, viscous)
+    state[0] = z
+    return b
 
 
 @jit(inline="always")
@@ -343,57 +316,3 @@ def leuven_tangent(scalars, table, state, step):
     n = table.shape[1]
     return (step * elastic_stiffness(table[0], state[:n], table[1]) + scalars[LEUVEN_DAMPING]
             + scalars[LEUVEN_VISCOUS])
-
-
-@jit
-def leuven_path(scalars, table, state, step, displacement, step_velocity, sample_velocity,
-                loads, constant_load, lo, hi, first, out_force):
-    """:func:`polind.kernels.contract.run_steps` specialised to Leuven."""
-    run_steps(leuven_step, leuven_force, scalars, table, state, step, displacement,
-              step_velocity, sample_velocity, loads, constant_load, lo, hi, first, out_force)
-
-
-@jit
-def leuven_motion(scalars, table, state, source_t, source_motion, t, motion, by_velocity,
-                  start_position, start_velocity, continuing, position, velocity, loads,
-                  constant_load, lo, hi, first, out_force):
-    """:func:`polind.kernels.contract.run_motion` specialised to Leuven."""
-    return run_motion(leuven_step, leuven_force, scalars, table, state, source_t, source_motion, t,
-                      motion, by_velocity, start_position, start_velocity, continuing,
-                      position, velocity, loads, constant_load, lo, hi, first, out_force)
-
-
-@jit
-def dahl_integrate(arguments):
-    """:func:`polind.kernels.dynamics.integrate_system_template` specialised to Dahl (cacheable)."""
-    integrate_system_template(dahl_step, dahl_tangent, arguments)
-
-
-@jit
-def dahl_body(arguments):
-    """:func:`polind.kernels.dynamics.advance_body_template` specialised to Dahl (cacheable)."""
-    advance_body_template(dahl_step, dahl_tangent, arguments)
-
-
-@jit
-def lugre_integrate(arguments):
-    """:func:`polind.kernels.dynamics.integrate_system_template` specialised to LuGre (cacheable)."""
-    integrate_system_template(lugre_step, lugre_tangent, arguments)
-
-
-@jit
-def lugre_body(arguments):
-    """:func:`polind.kernels.dynamics.advance_body_template` specialised to LuGre (cacheable)."""
-    advance_body_template(lugre_step, lugre_tangent, arguments)
-
-
-@jit
-def leuven_integrate(arguments):
-    """:func:`polind.kernels.dynamics.integrate_system_template` specialised to Leuven (cacheable)."""
-    integrate_system_template(leuven_step, leuven_tangent, arguments)
-
-
-@jit
-def leuven_body(arguments):
-    """:func:`polind.kernels.dynamics.advance_body_template` specialised to Leuven (cacheable)."""
-    advance_body_template(leuven_step, leuven_tangent, arguments)

@@ -9,8 +9,6 @@ the curve with ``Fs = Fc``, for which ``g`` is constant).
 from __future__ import annotations
 
 from polind.kernels import jit
-from polind.kernels.contract import run_motion, run_steps
-from polind.kernels.dynamics import advance_body_template, integrate_system_template
 from polind.kernels.stribeck import sign, stribeck_curve
 
 # Slots of ``scalars``.
@@ -43,33 +41,3 @@ def memoryless_step(scalars, table, state, step, displacement, step_velocity, sa
 def memoryless_tangent(scalars, table, state, step):
     """dF/dw away from w = 0: the viscous term only."""
     return scalars[VISCOUS]
-
-
-@jit
-def memoryless_path(scalars, table, state, step, displacement, step_velocity, sample_velocity,
-                    loads, constant_load, lo, hi, first, out_force):
-    """:func:`polind.kernels.contract.run_steps` specialised to the memoryless step."""
-    run_steps(memoryless_step, memoryless_force, scalars, table, state, step, displacement,
-              step_velocity, sample_velocity, loads, constant_load, lo, hi, first, out_force)
-
-
-@jit
-def memoryless_motion(scalars, table, state, source_t, source_motion, t, motion, by_velocity,
-                      start_position, start_velocity, continuing, position, velocity, loads,
-                      constant_load, lo, hi, first, out_force):
-    """:func:`polind.kernels.contract.run_motion` specialised to the memoryless models."""
-    return run_motion(memoryless_step, memoryless_force, scalars, table, state, source_t, source_motion, t,
-                      motion, by_velocity, start_position, start_velocity, continuing,
-                      position, velocity, loads, constant_load, lo, hi, first, out_force)
-
-
-@jit
-def memoryless_integrate(arguments):
-    """:func:`polind.kernels.dynamics.integrate_system_template` specialised to the memoryless models (cacheable)."""
-    integrate_system_template(memoryless_step, memoryless_tangent, arguments)
-
-
-@jit
-def memoryless_body(arguments):
-    """:func:`polind.kernels.dynamics.advance_body_template` specialised to the memoryless models (cacheable)."""
-    advance_body_template(memoryless_step, memoryless_tangent, arguments)

@@ -17,19 +17,41 @@ SHAPE_CODES = {"exponential": EXPONENTIAL, "rational": RATIONAL}
 
 
 @jit(inline="always")
-def stribeck_curve(v, coulomb_force, static_force, stribeck_velocity, exponent, shape):
-    """g(v) [N]: the steady-sliding friction magnitude at velocity v [m/s]."""
+def exact_exp(x):
+    """``math.exp``, as a function a template can take (:func:`stribeck_level`)."""
+    return math.exp(x)
+
+
+@jit(inline="always")
+def power_ratio(v, stribeck_velocity, squared):
+    """``|v/vs|^delta`` for ``delta = 2`` (``squared``) or 1: a product, no ``pow``."""
     ratio = abs(v / stribeck_velocity)
-    # A product for the usual exponents: pow costs more than the rest of a LuGre step.
-    if exponent == 2.0:
-        ratio = ratio * ratio
-    elif exponent != 1.0:
-        ratio = ratio ** exponent
+    return ratio * ratio if squared else ratio
+
+
+@jit(inline="always")
+def stribeck_ratio(v, stribeck_velocity, exponent):
+    """``|v/vs|^delta``; a product for the usual exponents (pow costs more than a LuGre step)."""
+    if exponent == 2.0 or exponent == 1.0:
+        return power_ratio(v, stribeck_velocity, exponent == 2.0)
+    return abs(v / stribeck_velocity) ** exponent
+
+
+@jit(inline="always")
+def stribeck_level(exp_function, ratio, coulomb_force, static_force, shape):
+    """g [N] from ``ratio = |v/vs|^delta``; ``exp_function`` is :func:`exact_exp` or a fast one."""
     if shape == RATIONAL:
         decay = 1.0 / (1.0 + ratio)
     else:
-        decay = math.exp(-ratio)
+        decay = exp_function(-ratio)
     return coulomb_force + (static_force - coulomb_force) * decay
+
+
+@jit(inline="always")
+def stribeck_curve(v, coulomb_force, static_force, stribeck_velocity, exponent, shape):
+    """g(v) [N]: the steady-sliding friction magnitude at velocity v [m/s]."""
+    return stribeck_level(exact_exp, stribeck_ratio(v, stribeck_velocity, exponent),
+                          coulomb_force, static_force, shape)
 
 
 @jit(inline="always")

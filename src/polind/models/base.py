@@ -310,7 +310,7 @@ class FrictionModel:
         return {}
 
     def step_functions(self) -> StepFunctions:
-        """The model's numba ``step``, ``force`` and ``tangent`` (and optional ``path``)."""
+        """The model's numba ``step``, ``force`` and ``tangent`` (:class:`polind.StepFunctions`)."""
         raise NotImplementedError(f"The {type(self).__name__} model does not supply "
                                   "step_functions().")
 
@@ -536,8 +536,7 @@ class FrictionModel:
             rest_capacity = None     # the spring is state: the mounted contact is not memoryless
         return StepKernel(
             step=functions.step, force=functions.force, tangent=functions.tangent,
-            path=functions.path, integrate=functions.integrate, body=functions.body,
-            motion=functions.motion,
+            runners=functions.runner_module(),
             scalars=page_placed(scalars, SCALARS_OFFSET),
             table=page_placed(np.atleast_2d(table), TABLE_OFFSET),
             state=page_placed(self.flat_state(state), STATE_OFFSET),

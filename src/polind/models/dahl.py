@@ -68,9 +68,7 @@ class Dahl(FrictionModel):
         # Kernels load numba: imported on first use so `import polind` stays fast.
         from polind.kernels import single
         return StepFunctions(single.dahl_step, single.dahl_force, single.dahl_tangent,
-                             single.dahl_path,
-                             single.dahl_integrate, single.dahl_body,
-                             motion=single.dahl_motion)
+                             runners="dahl")
 
     def kernel_arrays(self, state):
         p = self._params

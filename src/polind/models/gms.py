@@ -92,9 +92,7 @@ class GMS(FrictionModel):
         # Kernels load numba: imported on first use so `import polind` stays fast.
         from polind.kernels import elements
         return StepFunctions(elements.gms_step, elements.gms_force, elements.gms_tangent,
-                             elements.gms_path,
-                             elements.gms_integrate, elements.gms_body,
-                             motion=elements.gms_motion)
+                             runners="gms")
 
     def kernel_arrays(self, state):
         return gms_arrays(self._params)

@@ -18,26 +18,24 @@ class StepFunctions:
     """A model's numba functions of the stepping contract (:mod:`polind.kernels.contract`).
 
     ``step``, ``force`` and ``tangent`` are ``@njit`` functions with the
-    signatures documented there.  Optionally, specialisations of the
-    templates with the model's functions as globals, each taking the
-    template's arguments after its first two: ``path``
-    (``polind.kernels.contract.run_steps_any``, with ``step`` inlined),
-    ``integrate`` (``polind.kernels.dynamics.integrate_system_template``),
-    ``body`` (``polind.kernels.dynamics.advance_body_template``) and
-    ``motion`` (``polind.kernels.contract.run_motion``, the loop of
-    :func:`polind.simulate`).  numba can keep those in its
-    on-disk cache, which it cannot do for a template given functions as
-    arguments; without them the generic templates run the model, compiled
-    once per process.
+    signatures documented there.  Every loop that runs them (a path, a
+    motion, a body, each behind a series spring) is a *runner* of the one
+    template :mod:`polind.kernels.template`.  polind's own models name
+    their runner module in ``runners`` (generated under
+    ``polind.kernels.generated``, kept in numba's on-disk cache); a model
+    of your own leaves it None and gets the template compiled for its
+    functions once per process.
     """
 
     step: object
     force: object
     tangent: object
-    path: object = None
-    integrate: object = None
-    body: object = None
-    motion: object = None
+    runners: str | None = None
+
+    def runner_module(self):
+        """The runners of these functions (:func:`polind.kernels.generate.runners_for`)."""
+        from polind.kernels.generate import runners_for
+        return runners_for(self.step, self.force, self.tangent, self.runners)
 
 
 #: Where a kernel's arrays start within a 4096-byte page (:func:`page_placed`): the
@@ -85,8 +83,10 @@ class StepKernel:
     ----------
     step, force, tangent : numba functions
         See :mod:`polind.kernels.contract`.
-    path, integrate, body : numba function or None
-        The model's specialised templates (:class:`StepFunctions`), if any.
+    runners : module
+        The model's runners (:mod:`polind.kernels.template`): ``path``,
+        ``motion``, ``integrate``, ``body``, ``body_step`` and the
+        ``mounted_`` ones.
     scalars, table, state : ndarray
         The model's parameters and its state, laid out for its functions.
     normal_load : float
@@ -107,9 +107,7 @@ class StepKernel:
     step: object
     force: object
     tangent: object
-    path: object
-    integrate: object
-    body: object
+    runners: object
     scalars: np.ndarray
     table: np.ndarray
     state: np.ndarray
@@ -117,7 +115,6 @@ class StepKernel:
     force_scale: float
     rest_capacity: float | None
     mount: np.ndarray | None = None
-    motion: object = None
 
     def __post_init__(self):
         # A trial's state and, behind a series spring, the spring's own solve.
@@ -140,24 +137,19 @@ class StepKernel:
         """Run the path arrays (indexed by the sample a step ends at) over ``lo .. hi - 1``."""
         loads = NO_LOADS if loads is None else loads
         if self.mount is not None:
-            from polind.kernels.series import run_mounted
-            run_mounted(self.step, self.force, self.tangent, self.mount, self.scalars,
-                        self.table, self.state, self.scratch, step, displacement,
-                        step_velocity, sample_velocity, loads, self.normal_load, lo, hi, first,
-                        out_force)
-        elif self.path is not None:
-            self.path(self.scalars, self.table, self.state, step, displacement, step_velocity,
-                      sample_velocity, loads, self.normal_load, lo, hi, first, out_force)
+            self.runners.mounted_path(self.mount, self.scalars, self.table, self.state,
+                                      self.scratch, step, displacement, step_velocity,
+                                      sample_velocity, loads, self.normal_load, lo, hi, first,
+                                      out_force)
         else:
-            from polind.kernels.contract import run_steps_any
-            run_steps_any(self.step, self.force, self.scalars, self.table, self.state, step,
-                          displacement, step_velocity, sample_velocity, loads,
-                          self.normal_load, lo, hi, first, out_force)
+            self.runners.path(self.scalars, self.table, self.state, step, displacement,
+                              step_velocity, sample_velocity, loads, self.normal_load, lo, hi,
+                              first, out_force)
 
     def run_motion(self, source_t, source_motion, t, motion, by_velocity, start_position,
                    start_velocity, continuing, position, velocity, loads, lo, hi, first,
                    out_force):
-        """``polind.kernels.contract.run_motion`` with this model's functions: ``(code, index)``.
+        """The runners' ``motion`` (the loop of :func:`polind.simulate`): ``(code, index)``.
 
         Copies ``source_t`` and ``source_motion`` into ``t`` and ``motion`` (they
         may be the same arrays) as it checks and runs them.  Not for a mounted
@@ -165,43 +157,31 @@ class StepKernel:
         (:meth:`run`).
         """
         loads = NO_LOADS if loads is None else loads
-        arguments = (self.scalars, self.table, self.state, source_t, source_motion, t, motion,
-                     by_velocity, start_position, start_velocity, continuing, position,
-                     velocity, loads, self.normal_load, lo, hi, first, out_force)
-        if self.motion is not None:
-            return self.motion(*arguments)
-        from polind.kernels.contract import run_motion_any
-        return run_motion_any(self.step, self.force, *arguments)
+        return self.runners.motion(self.scalars, self.table, self.state, source_t,
+                                   source_motion, t, motion, by_velocity, start_position,
+                                   start_velocity, continuing, position, velocity, loads,
+                                   self.normal_load, lo, hi, first, out_force)
 
     def integrate_system(self, *args):
-        """``polind.kernels.dynamics.integrate_system_template`` with this model's functions.
+        """The runners' ``integrate`` (``polind.kernels.dynamics.integrate_system_with``).
 
-        ``args`` are the template's arguments without the final ``mount``
-        (added here).
+        ``args`` are its arguments without the final ``mount`` (added here).
         """
         if self.mount is not None:
-            from polind.kernels.series import integrate_system_mounted
-            integrate_system_mounted(self.step, self.tangent, args + (self.mount,))
-        elif self.integrate is not None:
-            self.integrate(args + (RIGID,))
+            self.runners.mounted_integrate(args + (self.mount,))
         else:
-            from polind.kernels.dynamics import integrate_system
-            integrate_system(self.step, self.tangent, args + (RIGID,))
+            self.runners.integrate(args + (RIGID,))
 
     def advance_body(self, *args):
-        """``polind.kernels.dynamics.advance_body_template`` with this model's functions.
+        """The runners' ``body`` (``polind.kernels.dynamics.advance_body_with``).
 
-        ``args`` are the template's arguments without the final ``mount``
-        (added here); its ``scratch`` is the kernel's ``scratch`` array.
+        ``args`` are its arguments without the final ``mount`` (added here);
+        its ``scratch`` is the kernel's ``scratch`` array.
         """
         if self.mount is not None:
-            from polind.kernels.series import advance_body_mounted
-            advance_body_mounted(self.step, self.tangent, args + (self.mount,))
-        elif self.body is not None:
-            self.body(args + (RIGID,))
+            self.runners.mounted_body(args + (self.mount,))
         else:
-            from polind.kernels.dynamics import advance_body
-            advance_body(self.step, self.tangent, args + (RIGID,))
+            self.runners.body(args + (RIGID,))
 
 
 NO_LOADS = np.zeros(0)

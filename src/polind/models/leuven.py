@@ -130,9 +130,7 @@ class Leuven(FrictionModel):
         # Kernels load numba: imported on first use so `import polind` stays fast.
         from polind.kernels import single
         return StepFunctions(single.leuven_step, single.leuven_force, single.leuven_tangent,
-                             single.leuven_path,
-                             single.leuven_integrate, single.leuven_body,
-                             motion=single.leuven_motion)
+                             runners="leuven")
 
     def kernel_arrays(self, state):
         from polind.kernels.stribeck import SHAPE_CODES

@@ -134,9 +134,7 @@ class LuGre(FrictionModel):
         # Kernels load numba: imported on first use so `import polind` stays fast.
         from polind.kernels import single
         return StepFunctions(single.lugre_step, single.lugre_force, single.lugre_tangent,
-                             single.lugre_path,
-                             single.lugre_integrate, single.lugre_body,
-                             motion=single.lugre_motion)
+                             runners="lugre")
 
     def kernel_arrays(self, state):
         from polind.kernels.stribeck import SHAPE_CODES

@@ -112,9 +112,7 @@ class MaxwellSlip(FrictionModel):
         # Kernels load numba: imported on first use so `import polind` stays fast.
         from polind.kernels import elements
         return StepFunctions(elements.maxwell_slip_step, elements.maxwell_slip_force,
-                             elements.maxwell_slip_tangent, elements.maxwell_slip_path,
-                             elements.maxwell_slip_integrate, elements.maxwell_slip_body,
-                             motion=elements.maxwell_slip_motion)
+                             elements.maxwell_slip_tangent, runners="maxwell_slip")
 
     def kernel_arrays(self, state):
         table = np.vstack([self._array("stiffness"), self._array("breakaway_force")])

@@ -476,13 +476,9 @@ class PolInd(FrictionModel):
             # Elastic-plastic asperities: a path of their own (the Hertzian one stays as it is).
             from polind.kernels import pol_ind_plastic as plastic
             return StepFunctions(plastic.plastic_step, plastic.plastic_force,
-                                 pol_ind.pol_ind_tangent, plastic.plastic_path,
-                                 plastic.plastic_integrate, plastic.plastic_body,
-                                 motion=plastic.plastic_motion)
+                                 pol_ind.pol_ind_tangent, runners="pol_ind_plastic")
         return StepFunctions(pol_ind.pol_ind_step, pol_ind.pol_ind_force,
-                             pol_ind.pol_ind_tangent, pol_ind.pol_ind_path,
-                             pol_ind.pol_ind_integrate, pol_ind.pol_ind_body,
-                             motion=pol_ind.pol_ind_motion)
+                             pol_ind.pol_ind_tangent, runners="pol_ind")
 
     def kernel_arrays(self, state):
         from polind.kernels import pol_ind as slots

@@ -25,9 +25,7 @@ def _memoryless_functions(self):
     # Kernels load numba: imported on first use so `import polind` stays fast.
     from polind.kernels import static
     return StepFunctions(static.memoryless_step, static.memoryless_force,
-                         static.memoryless_tangent, static.memoryless_path,
-                             static.memoryless_integrate, static.memoryless_body,
-                         motion=static.memoryless_motion)
+                         static.memoryless_tangent, runners="memoryless")
 
 
 def _memoryless_scalars(coulomb, static, velocity, exponent, shape, viscous):

@@ -1,0 +1,138 @@
+"""The runners of lugre (polind.kernels.single), generated from polind.kernels.template.
+
+Do not edit: ``python -m polind.kernels.generate`` writes this file again.
+"""
+
+from polind.kernels import jit
+from polind.kernels.single import lugre_blocks as model_blocks
+from polind.kernels.single import lugre_block as model_block
+from polind.kernels.single import lugre_step as model_step
+from polind.kernels.single import lugre_force as model_force
+from polind.kernels.single import lugre_tangent as model_tangent
+from polind.kernels.single import lugre_step as model_settled
+from polind.kernels.contract import VALID, run_motion, run_steps  # noqa: E402
+from polind.kernels.dynamics import (advance_body_with, bare_commit, bare_trial,  # noqa: E402
+                                     body_step as body_step_with, integrate_system_with)
+from polind.kernels.series import (mounted_commit, mounted_step_with,  # noqa: E402
+                                   mounted_trial, run_mounted_with)
+
+
+@jit
+def path(scalars, table, state, step, displacement, step_velocity, sample_velocity, loads,
+         constant_load, lo, hi, first, out_force):
+    """:func:`polind.kernels.contract.run_steps` with the model's functions."""
+    run_steps(model_step, model_force, scalars, table, state, step, displacement, step_velocity,
+              sample_velocity, loads, constant_load, lo, hi, first, out_force)
+
+
+@jit
+def motion_samples(scalars, table, state, source_t, source_motion, t, motion, by_velocity,
+                   start_position, start_velocity, continuing, position, velocity, loads,
+                   constant_load, lo, hi, first, out_force):
+    """:func:`polind.kernels.contract.run_motion` with the model's functions: one sample a pass."""
+    return run_motion(model_step, model_force, scalars, table, state, source_t, source_motion,
+                      t, motion, by_velocity, start_position, start_velocity, continuing,
+                      position, velocity, loads, constant_load, lo, hi, first, out_force)
+
+
+@jit
+def motion(scalars, table, state, source_t, source_motion, t, motion, by_velocity,
+           start_position, start_velocity, continuing, position, velocity, loads, constant_load,
+           lo, hi, first, out_force):
+    """The loop of :func:`polind.simulate`: ``(code, index)`` as :func:`motion_samples`.
+
+    Where ``model_blocks`` allows it (positions, the parameters its block
+    handles), the samples after the first step run in blocks of
+    ``model_block``, which prepares a block in a pass with no dependence
+    between samples and returns the sample it stopped at, or -1 for a block
+    with a bad sample; that block and the rest then run through
+    :func:`motion_samples`, which finds and reports the bad sample.
+    """
+    if hi - lo < 3 or not model_blocks(scalars, by_velocity):
+        return motion_samples(scalars, table, state, source_t, source_motion, t, motion,
+                              by_velocity, start_position, start_velocity, continuing, position,
+                              velocity, loads, constant_load, lo, hi, first, out_force)
+    if first:
+        # The force at the start and the first step, at the start's velocity.
+        code, index = motion_samples(scalars, table, state, source_t, source_motion, t, motion,
+                                     by_velocity, start_position, start_velocity, continuing,
+                                     position, velocity, loads, constant_load, lo, lo + 2, True,
+                                     out_force)
+        if code != VALID:
+            return code, index
+        lo += 1
+    a = lo + 1
+    while a < hi:
+        b = model_block(scalars, table, state, source_t, source_motion, t, motion, velocity,
+                        out_force, a, hi)
+        if b < 0:
+            return motion_samples(scalars, table, state, source_t, source_motion, t, motion,
+                                  by_velocity, start_position, start_velocity, continuing,
+                                  position, velocity, loads, constant_load, a - 1, hi, False,
+                                  out_force)
+        a = b
+    return VALID, -1
+
+
+@jit
+def body_step(memoryless, rest_capacity, force_scale, mount, scalars, table, state, scratch,
+              method, mass, drive_stiffness, step, external, position, velocity,
+              previous_velocity, previous_step_velocity, history, normal_load):
+    """:func:`polind.kernels.dynamics.body_step` of the model with nothing around its contact."""
+    return body_step_with(bare_trial, bare_commit, model_settled, model_tangent, memoryless,
+                          rest_capacity, force_scale, mount, scalars, table, state, scratch,
+                          method, mass, drive_stiffness, step, external, position, velocity,
+                          previous_velocity, previous_step_velocity, history, normal_load)
+
+
+@jit
+def integrate(arguments):
+    """:func:`polind.kernels.dynamics.integrate_system_with` of :func:`body_step`."""
+    integrate_system_with(body_step, arguments)
+
+
+@jit
+def body(arguments):
+    """:func:`polind.kernels.dynamics.advance_body_with` of :func:`body_step`."""
+    advance_body_with(body_step, arguments)
+
+
+@jit
+def mounted_step(mount, scalars, table, state, scratch, step, displacement, step_velocity,
+                 sample_velocity, normal_load):
+    """:func:`polind.kernels.series.mounted_step_with` of the model: ``(F, du, w)``."""
+    return mounted_step_with(model_step, model_tangent, mount, scalars, table, state, scratch,
+                             step, displacement, step_velocity, sample_velocity, normal_load)
+
+
+@jit
+def mounted_path(mount, scalars, table, state, scratch, step_length, displacement,
+                 step_velocity, sample_velocity, loads, constant_load, lo, hi, first, out_force):
+    """:func:`polind.kernels.series.run_mounted_with` of :func:`mounted_step`."""
+    run_mounted_with(mounted_step, model_force, mount, scalars, table, state, scratch,
+                     step_length, displacement, step_velocity, sample_velocity, loads,
+                     constant_load, lo, hi, first, out_force)
+
+
+@jit
+def mounted_body_step(memoryless, rest_capacity, force_scale, mount, scalars, table, state,
+                      scratch, method, mass, drive_stiffness, step, external, position, velocity,
+                      previous_velocity, previous_step_velocity, history, normal_load):
+    """:func:`body_step` of the contact behind its mount (the spring solved inside each trial)."""
+    return body_step_with(mounted_trial, mounted_commit, mounted_step, model_tangent,
+                          memoryless, rest_capacity, force_scale, mount, scalars, table, state,
+                          scratch, method, mass, drive_stiffness, step, external, position,
+                          velocity, previous_velocity, previous_step_velocity, history,
+                          normal_load)
+
+
+@jit
+def mounted_integrate(arguments):
+    """:func:`integrate` of the mounted contact."""
+    integrate_system_with(mounted_body_step, arguments)
+
+
+@jit
+def mounted_body(arguments):
+    """:func:`body` of the mounted contact."""
+    advance_body_with(mounted_body_step, arguments)
