@@ -10,7 +10,12 @@ its kernels there then), so every kernel it needs is compiled; and then
 *warm*, best of ``warm_runs`` runs with the same directory, so every kernel
 is loaded.  Each row counts the files numba wrote into the empty directory
 (more than none: the cold run compiled) and the files the warm runs added or
-changed (none: they compiled nothing).
+changed (none: they compiled nothing that numba can cache).  A kernel numba
+cannot keep on disk is compiled again in every process, warm or cold, and
+writes nothing: the runners of a mounted model (a ``[model.compliance]``,
+:mod:`polind.kernels.series`) take the model's functions as arguments and are
+``cache=False``, so their compile time shows in the warm seconds, not in
+these counts.
 
 The cases (:func:`case_names`): ``polind simulate`` of each registered
 model's ``example()`` along a 2000-sample motion CSV; LuGre and the default
