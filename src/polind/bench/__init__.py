@@ -10,5 +10,7 @@
 * :mod:`polind.bench.surfaces`: Pol-Ind's separation solve and a measured
   height map from file to model;
 * :mod:`polind.bench.big_files`: ``polind simulate`` end to end along a
-  1e7-sample CSV.
+  1e7-sample CSV;
+* :mod:`polind.bench.processes`: whole ``polind`` processes, cold (an empty
+  numba cache) and warm, and the ratios the user waits for.
 """

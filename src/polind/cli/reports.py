@@ -56,7 +56,11 @@ def demo(out_dir, model_path):
 @click.option("--big-files", "big_files", is_flag=True,
               help="Also time `polind simulate` along a 1e7-sample motion CSV (423 MB) end to "
                    "end: a minute or so, and 1.3 GB of temporary files.")
-def bench(models, big_files):
+@click.option("--processes", "processes", is_flag=True,
+              help="Also time whole `polind` processes (simulate of each model, with a "
+                   "compliance, fit, demo) cold, with an empty numba cache, and warm: ten "
+                   "minutes or more.")
+def bench(models, big_files, processes):
     """The performance benchmark: element-steps per second, numba kernel vs plain NumPy.
 
     Each registered model runs at 1, 64 and 1024 elements (the single-state
@@ -69,8 +73,11 @@ def bench(models, big_files):
     varying against a constant load.  With --big-files, last: the wall time
     and peak memory of a `polind simulate` process of a 4-element
     Maxwell-slip model along a 1e7-sample motion CSV (targets 8 s, 1 GB).
+    With --processes, last: whole `polind` processes, each first with an empty
+    numba cache directory (NUMBA_CACHE_DIR) and then with the cache it filled,
+    and the ratios of those times against their targets.
     """
-    from polind.bench import big_files as big, harness, ratios, surfaces
+    from polind.bench import big_files as big, harness, processes as whole, ratios, surfaces
     from polind.models.registry import model_class
 
     for model_type in models:       # any registered type (an installed plugin's too)
@@ -106,3 +113,14 @@ def bench(models, big_files):
         with progress(description="big files", unit="") as bar:
             row = big.run_big_files(progress=bar.set_description_str)
         click.echo("\n" + big.format_big_files(row))
+    if processes:
+        click.echo("\n" + whole.format_processes([]))
+        with progress(total=len(whole.case_names()), description="processes",
+                      unit=" cases") as bar:
+            def shown(row):
+                bar.clear()
+                click.echo(whole.format_processes([row]).splitlines()[-1])
+                bar.update()
+
+            rows = whole.run_processes(progress=shown)
+        click.echo("\n" + whole.format_targets(whole.target_rows(rows)))
