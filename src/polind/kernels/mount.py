@@ -91,7 +91,7 @@ def first_force(force_function, mount, scalars, table, state, sample_velocity, n
     Behind a series spring it is the spring's force (0 at rest); else the
     model's ``force`` at ``sample_velocity``, scaled by the load.  ``mount``
     may be None (nothing around the contact).  The same rule as the first
-    sample of :func:`polind.kernels.series.run_mounted`.
+    sample of :func:`polind.kernels.series.run_mounted_with`.
     """
     if mount is not None and mount[STIFFNESS] < math.inf:
         return float(mount[SPRING_FORCE])

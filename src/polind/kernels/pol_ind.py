@@ -343,7 +343,7 @@ def settled_step(scalars, table, state, step, displacement, step_velocity, sampl
     """The table brought to the load first (:func:`set_load_apart`, or the stale weights), then the GMS step.
 
     Also the whole step of the one-degree-of-freedom templates
-    (:func:`pol_ind_integrate`, :func:`pol_ind_body`), which call it at two
+    (the runners ``integrate`` and ``body`` of :mod:`polind.kernels.template`), which call it at two
     places (trial and commit) and see a new load only at the first trial of
     a sample: inlining :func:`load_step` there twice costs seconds of
     compilation and saves nothing.  Its forces are :func:`load_step`'s to
