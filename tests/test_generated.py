@@ -42,6 +42,7 @@ def test_no_kernel_module_defines_a_runner_of_its_own():
     # to one model by hand would be named after the model: lugre_path, gms_body, ...
     runner_names = {node.name for node in ast.parse(generate.template_body()).body
                     if isinstance(node, ast.FunctionDef)}
+    runner_names -= {"trial"}     # maxwell_slip_trial: the elements' own trial (Leuven's solve)
     prefixes = {names["step"].removesuffix("_step") for _, names in generate.MODELS.values()}
     by_hand = {f"{prefix}_{runner}" for prefix in prefixes for runner in runner_names}
     for path in generate.KERNELS.glob("*.py"):

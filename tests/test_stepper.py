@@ -143,20 +143,10 @@ def _applied_forces(model_type, n, seed):
                     + 0.05 * rng.normal(size=n - 1))
 
 
-#: Known to fail on AVX-512 machines (seen on this project's two-core Zen 4 machine, also at
-#: the commit before this session): Body and simulate_system run two separately compiled
-#: copies of the Maxwell-slip step, whose reassociated element sums stop the BDF2 secant at
-#: different points within its 1e-13 tolerance, and the runs part by up to 1.5e-12 (the
-#: contract says 1e-12).  The fix (one compiled body step called by both) is on the branch
-#: body23, not yet merged; strict=False so the run passes where the copies agree.
-_SPLIT_COPIES = pytest.mark.xfail(strict=False, reason="two compiled copies of the step part "
-                                  "by 1.5e-12 on AVX-512; fixed on branch body23")
-
-
 @pytest.mark.parametrize("method", ["bdf2", "euler"])
-@pytest.mark.parametrize("model_type", [pytest.param(name, marks=_SPLIT_COPIES)
-                                        if name == "maxwell-slip" else name for name in ALL])
+@pytest.mark.parametrize("model_type", ALL)
 def test_body_equals_simulate_system_with_applied_forces(model_type, method):
+    # Both run the model's one compiled body step (the runners' body_step).
     model = lib(random_parameters(model_type, 11))
     n = 1500
     system = System(mass=1.0, duration=(n - 1) * 1e-3, time_step=1e-3)

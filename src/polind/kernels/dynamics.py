@@ -138,22 +138,27 @@ def bare_trial(step_function, tangent_function, memoryless, mount, scalars, tabl
 
 
 @jit(inline="always")
-def bare_commit(step_function, tangent_function, mount, scalars, table, state, scratch, step,
-                displacement, step_velocity, sample_velocity, normal_load):
+def bare_commit(step_function, mount, scalars, table, state, scratch, step, displacement,
+                step_velocity, sample_velocity, normal_load):
     """Advance ``state`` over the accepted step and return the force (nothing around the contact)."""
     return step_function(scalars, table, state, step, displacement, step_velocity,
                          sample_velocity, normal_load)
 
 
 @jit(inline="always")
-def solve_step(trial, step_function, tangent_function, memoryless, rest_capacity, force_scale,
+def solve_step(trial, tangent_function, memoryless, rest_capacity, force_scale,
                mount, scalars, table, state, scratch, inertia, known, guess, step, position,
                sample_slope, sample_offset, normal_load):
     """Solve ``inertia w + F(w) = known`` for the step velocity ``w``.
 
-    ``trial`` evaluates ``(F(w), dF/dw)`` on ``scratch`` without touching
-    ``state`` (:func:`bare_trial`, or the trial of a mounted contact in
-    :mod:`polind.kernels.mount`, which passes ``mount`` on).  The body's velocity at the end of the step, at which the friction's rate
+    ``trial(memoryless, mount, scalars, table, state, scratch, w, step,
+    sample_slope, sample_offset, normal_load)`` evaluates ``(F(w), dF/dw)``
+    on ``scratch`` without touching ``state``: a model's :func:`bare_trial`
+    or the trial of a mounted contact (:mod:`polind.kernels.series`) with
+    the model's functions bound, compiled on its own (the runners'
+    ``trial``, :mod:`polind.kernels.template`), so that the model's step is
+    not inlined at each of the solver's calls.  ``tangent_function`` is the
+    model's (a memoryless model's tangent at rest).  The body's velocity at the end of the step, at which the friction's rate
     terms are taken, is ``sample_slope * w + sample_offset``.  Returns
     ``(w, held)``; ``held`` is true when a memoryless model sticks (``w = 0``
     and the friction is ``known``).
@@ -177,9 +182,8 @@ def solve_step(trial, step_function, tangent_function, memoryless, rest_capacity
         residual_at_zero = direction * capacity - known  # R(0+) or R(0-)
         tangent_at_zero = tangent_function(scalars, table, state, step)
     else:
-        force, tangent_at_zero = trial(step_function, tangent_function, memoryless, mount,
-                                       scalars, table, state, scratch, 0.0, step, sample_slope,
-                                       sample_offset, normal_load)
+        force, tangent_at_zero = trial(memoryless, mount, scalars, table, state, scratch, 0.0,
+                                       step, sample_slope, sample_offset, normal_load)
         residual_at_zero = force - known
         if abs(residual_at_zero) <= max(tolerance,
                                          0.5 * (inertia + tangent_at_zero) * quantum):
@@ -204,9 +208,8 @@ def solve_step(trial, step_function, tangent_function, memoryless, rest_capacity
     best_residual = np.inf
     jump_checked = False
     for iteration in range(MAX_ITERATIONS):
-        force, tangent = trial(step_function, tangent_function, memoryless, mount, scalars,
-                               table, state, scratch, velocity, step, sample_slope,
-                               sample_offset, normal_load)
+        force, tangent = trial(memoryless, mount, scalars, table, state, scratch, velocity,
+                               step, sample_slope, sample_offset, normal_load)
         residual = inertia * velocity + force - known
         if abs(residual) < best_residual:
             best_velocity, best_residual = velocity, abs(residual)
@@ -300,7 +303,7 @@ def momentum_terms(second_order, mass, drive_stiffness, step, external, velocity
 
 
 @jit(inline="always")
-def body_step(trial, commit, step_function, tangent_function, memoryless, rest_capacity,
+def body_step(trial, commit, tangent_function, memoryless, rest_capacity,
               force_scale, mount, scalars, table, state, scratch, method, mass, drive_stiffness,
               step, external, position, velocity, previous_velocity, previous_step_velocity,
               history, normal_load):
@@ -310,8 +313,11 @@ def body_step(trial, commit, step_function, tangent_function, memoryless, rest_c
     with the drive spring taken at the previous position (its stiffness
     ``drive_stiffness`` enters the implicit equation).  ``velocity`` and
     ``previous_velocity`` are ``v_n`` and ``v_{n-1}``; ``history`` whether a
-    BDF2 step may use them.  ``state`` is committed in place by ``commit``
-    (:func:`bare_commit` or a mounted contact's, with ``trial`` to match).
+    BDF2 step may use them.  ``trial`` as in :func:`solve_step`; ``state``
+    is committed in place by ``commit(mount, scalars, table, state, scratch,
+    step, displacement, step_velocity, sample_velocity, normal_load)``
+    (:func:`bare_commit` or a mounted contact's, with the model's functions
+    bound, to match ``trial``).
 
     Returns ``(x, v, F, step_velocity, history)`` at the end of the step.
 
@@ -324,7 +330,7 @@ def body_step(trial, commit, step_function, tangent_function, memoryless, rest_c
     sample_slope, sample_offset, inertia, known = momentum_terms(
         method == BDF2 and history, mass, drive_stiffness, step, external, velocity,
         previous_velocity, previous_step_velocity)
-    step_velocity, stuck = solve_step(trial, step_function, tangent_function, memoryless,
+    step_velocity, stuck = solve_step(trial, tangent_function, memoryless,
                                       rest_capacity, force_scale, mount, scalars, table, state,
                                       scratch, inertia, known, previous_step_velocity, step,
                                       position, sample_slope, sample_offset, normal_load)
@@ -334,8 +340,8 @@ def body_step(trial, commit, step_function, tangent_function, memoryless, rest_c
     step_velocity = displacement / step
     new_velocity = sample_slope * step_velocity + sample_offset
     sample_velocity = step_velocity if memoryless else new_velocity
-    friction = commit(step_function, tangent_function, mount, scalars, table, state, scratch, step,
-                      displacement, step_velocity, sample_velocity, normal_load)
+    friction = commit(mount, scalars, table, state, scratch, step, displacement, step_velocity,
+                      sample_velocity, normal_load)
     return new_position, new_velocity, friction, step_velocity, True
 
 

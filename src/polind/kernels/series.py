@@ -65,12 +65,14 @@ def contact_trial(step_function, tangent_function, memoryless, mount, scalars, t
 
 
 @jit(inline="always")
-def mounted_step_with(step_function, tangent_function, mount, scalars, table, state, scratch,
-                      step, displacement, step_velocity, sample_velocity, normal_load):
+def mounted_step_with(spring_trial, step_function, tangent_function, mount, scalars, table, state,
+                      scratch, step, displacement, step_velocity, sample_velocity, normal_load):
     """One step of the mounted contact: ``(F, du, w)``; ``state`` advanced, ``mount`` untouched.
 
     ``displacement`` and ``step_velocity`` are the far end's (``x``);
-    ``scratch`` holds at least one state for the spring's solve.  A model's
+    ``scratch`` holds at least one state for the spring's solve;
+    ``spring_trial`` is :func:`contact_trial` with the model's functions
+    bound (the solver's ``trial``, :func:`polind.kernels.dynamics.solve_step`).  A model's
     runners compile it on its own (their ``mounted_step``), called by the
     other templates below as their ``mounted_step`` argument: inlined into
     the body's solver it would put one solver inside another and multiply
@@ -83,7 +85,7 @@ def mounted_step_with(step_function, tangent_function, mount, scalars, table, st
         return force, displacement, step_velocity
     known = mount[SPRING_FORCE] + stiffness * displacement
     velocity, held = solve_step(
-        contact_trial, step_function, tangent_function, mount[MEMORYLESS] != 0.0,
+        spring_trial, tangent_function, mount[MEMORYLESS] != 0.0,
         mount[REST_CAPACITY], mount[FORCE_SCALE], mount,
         scalars, table, state, scratch, stiffness * step, known, mount[CONTACT_VELOCITY], step,
         mount[CONTACT_POSITION], 1.0, 0.0, normal_load)
@@ -96,13 +98,12 @@ def mounted_step_with(step_function, tangent_function, mount, scalars, table, st
 
 
 @jit(inline="always")
-def mounted_commit(mounted_step, tangent_function, mount, scalars, table, state, scratch, step,
-                   displacement, step_velocity, sample_velocity, normal_load):
+def mounted_commit(mounted_step, mount, scalars, table, state, scratch, step, displacement,
+                   step_velocity, sample_velocity, normal_load):
     """``mounted_step`` on the real state, remembering the spring's force and the contact.
 
     ``mounted_step`` is a model's :func:`mounted_step_with` with its
-    functions bound; ``tangent_function`` is not used (the body's solver
-    passes it to every commit).
+    functions bound.
     """
     force, contact_displacement, contact_velocity = mounted_step(
         mount, scalars, table, state, scratch, step, displacement, step_velocity,
@@ -164,9 +165,9 @@ def run_mounted_with(mounted_step, force_function, mount, scalars, table, state,
             # its elements there): the spring's trials run on copies.
             force_function(scalars, table, state, sample_velocity[k - 1], load)
             previous_load = load
-        out_force[k] = mounted_commit(mounted_step, force_function, mount, scalars, table,
-                                      state, scratch, step_length[k], displacement[k],
-                                      step_velocity[k], sample_velocity[k], load)
+        out_force[k] = mounted_commit(mounted_step, mount, scalars, table, state, scratch,
+                                      step_length[k], displacement[k], step_velocity[k],
+                                      sample_velocity[k], load)
 
 
 def mounted_sample(runners, mount, scalars, table, state, scratch, path, step, displacement,

@@ -13,8 +13,8 @@ from polind.kernels.single import dahl_step as model_settled
 from polind.kernels.contract import VALID, run_motion, run_steps  # noqa: E402
 from polind.kernels.dynamics import (advance_body_with, bare_commit, bare_trial,  # noqa: E402
                                      body_step as body_step_with, integrate_system_with)
-from polind.kernels.series import (mounted_commit, mounted_step_with,  # noqa: E402
-                                   mounted_trial, run_mounted_with)
+from polind.kernels.series import (contact_trial, mounted_commit,  # noqa: E402
+                                   mounted_step_with, mounted_trial, run_mounted_with)
 
 
 @jit
@@ -75,14 +75,30 @@ def motion(scalars, table, state, source_t, source_motion, t, motion, by_velocit
 
 
 @jit
+def trial(memoryless, mount, scalars, table, state, scratch, velocity, step, sample_slope,
+          sample_offset, normal_load):
+    """The body solver's trial: :func:`polind.kernels.dynamics.bare_trial` of the model."""
+    return bare_trial(model_settled, model_tangent, memoryless, mount, scalars, table, state,
+                      scratch, velocity, step, sample_slope, sample_offset, normal_load)
+
+
+@jit
+def commit(mount, scalars, table, state, scratch, step, displacement, step_velocity,
+           sample_velocity, normal_load):
+    """The body's accepted step: :func:`polind.kernels.dynamics.bare_commit` of the model."""
+    return bare_commit(model_settled, mount, scalars, table, state, scratch, step, displacement,
+                       step_velocity, sample_velocity, normal_load)
+
+
+@jit
 def body_step(memoryless, rest_capacity, force_scale, mount, scalars, table, state, scratch,
               method, mass, drive_stiffness, step, external, position, velocity,
               previous_velocity, previous_step_velocity, history, normal_load):
     """:func:`polind.kernels.dynamics.body_step` of the model with nothing around its contact."""
-    return body_step_with(bare_trial, bare_commit, model_settled, model_tangent, memoryless,
-                          rest_capacity, force_scale, mount, scalars, table, state, scratch,
-                          method, mass, drive_stiffness, step, external, position, velocity,
-                          previous_velocity, previous_step_velocity, history, normal_load)
+    return body_step_with(trial, commit, model_tangent, memoryless, rest_capacity, force_scale,
+                          mount, scalars, table, state, scratch, method, mass, drive_stiffness,
+                          step, external, position, velocity, previous_velocity,
+                          previous_step_velocity, history, normal_load)
 
 
 @jit
@@ -98,11 +114,20 @@ def body(arguments):
 
 
 @jit
+def spring_trial(memoryless, mount, scalars, table, state, scratch, velocity, step,
+                 sample_slope, sample_offset, normal_load):
+    """The spring's solve's trial: :func:`polind.kernels.series.contact_trial` of the model."""
+    return contact_trial(model_step, model_tangent, memoryless, mount, scalars, table, state,
+                         scratch, velocity, step, sample_slope, sample_offset, normal_load)
+
+
+@jit
 def mounted_step(mount, scalars, table, state, scratch, step, displacement, step_velocity,
                  sample_velocity, normal_load):
     """:func:`polind.kernels.series.mounted_step_with` of the model: ``(F, du, w)``."""
-    return mounted_step_with(model_step, model_tangent, mount, scalars, table, state, scratch,
-                             step, displacement, step_velocity, sample_velocity, normal_load)
+    return mounted_step_with(spring_trial, model_step, model_tangent, mount, scalars, table,
+                             state, scratch, step, displacement, step_velocity, sample_velocity,
+                             normal_load)
 
 
 @jit
@@ -115,15 +140,30 @@ def mounted_path(mount, scalars, table, state, scratch, step_length, displacemen
 
 
 @jit
+def mounted_body_trial(memoryless, mount, scalars, table, state, scratch, velocity, step,
+                       sample_slope, sample_offset, normal_load):
+    """The body solver's trial of the mounted contact (:func:`polind.kernels.series.mounted_trial`)."""
+    return mounted_trial(mounted_step, model_tangent, memoryless, mount, scalars, table, state,
+                         scratch, velocity, step, sample_slope, sample_offset, normal_load)
+
+
+@jit
+def mounted_body_commit(mount, scalars, table, state, scratch, step, displacement,
+                        step_velocity, sample_velocity, normal_load):
+    """The mounted contact's accepted step (:func:`polind.kernels.series.mounted_commit`)."""
+    return mounted_commit(mounted_step, mount, scalars, table, state, scratch, step,
+                          displacement, step_velocity, sample_velocity, normal_load)
+
+
+@jit
 def mounted_body_step(memoryless, rest_capacity, force_scale, mount, scalars, table, state,
                       scratch, method, mass, drive_stiffness, step, external, position, velocity,
                       previous_velocity, previous_step_velocity, history, normal_load):
     """:func:`body_step` of the contact behind its mount (the spring solved inside each trial)."""
-    return body_step_with(mounted_trial, mounted_commit, mounted_step, model_tangent,
-                          memoryless, rest_capacity, force_scale, mount, scalars, table, state,
-                          scratch, method, mass, drive_stiffness, step, external, position,
-                          velocity, previous_velocity, previous_step_velocity, history,
-                          normal_load)
+    return body_step_with(mounted_body_trial, mounted_body_commit, model_tangent, memoryless,
+                          rest_capacity, force_scale, mount, scalars, table, state, scratch,
+                          method, mass, drive_stiffness, step, external, position, velocity,
+                          previous_velocity, previous_step_velocity, history, normal_load)
 
 
 @jit
