@@ -209,7 +209,7 @@ def stuck_stiffness(stiffness, slip_direction):
     return total
 
 
-@jit(inline="always")
+@jit
 def maxwell_slip_step(scalars, table, state, step, displacement, step_velocity,
                       sample_velocity, normal_load):
     """Maxwell-slip: ``F_i <- clip(F_i + k_i dx, -W_i, W_i)``; ``F = sum F_i + sigma2 v``.
@@ -221,12 +221,12 @@ def maxwell_slip_step(scalars, table, state, step, displacement, step_velocity,
     return total + scalars[VISCOUS] * sample_velocity
 
 
-@jit(inline="always")
+@jit
 def maxwell_slip_force(scalars, table, state, sample_velocity, normal_load):
     return element_sum(state) + scalars[VISCOUS] * sample_velocity
 
 
-@jit(inline="always")
+@jit
 def maxwell_slip_tangent(scalars, table, state, step):
     return step * elastic_stiffness(table[ELEMENT_STIFFNESS], state,
                                     table[ELEMENT_CAPACITY]) + scalars[VISCOUS]
@@ -322,7 +322,7 @@ def gms_step_scaled(scalars, table, element_force, slip_direction, step, displac
     return total + scalars[VISCOUS] * sample_velocity
 
 
-@jit(inline="always")
+@jit
 def gms_step(scalars, table, state, step, displacement, step_velocity, sample_velocity,
              normal_load):
     n = table.shape[1]
@@ -330,12 +330,12 @@ def gms_step(scalars, table, state, step, displacement, step_velocity, sample_ve
                            step_velocity, sample_velocity, scalars[COULOMB], scalars[STATIC])
 
 
-@jit(inline="always")
+@jit
 def gms_force(scalars, table, state, sample_velocity, normal_load):
     return element_sum(state[:table.shape[1]]) + scalars[VISCOUS] * sample_velocity
 
 
-@jit(inline="always")
+@jit
 def gms_tangent(scalars, table, state, step):
     n = table.shape[1]
     return step * stuck_stiffness(table[ELEMENT_STIFFNESS], state[n:2 * n]) + scalars[VISCOUS]

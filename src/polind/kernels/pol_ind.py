@@ -310,7 +310,7 @@ def load_step(scalars, table, state, step, displacement, step_velocity, sample_v
                           step_velocity, sample_velocity, normal_load)
 
 
-@jit(inline="always")
+@jit
 def pol_ind_step(scalars, table, state, step, displacement, step_velocity, sample_velocity,
                  normal_load):
     """The GMS law with ``g(v) = N [mu_k + (mu_s - mu_k) shape(v)]`` (:ref:`guide-pol-ind-law`).
@@ -337,7 +337,7 @@ def step_with(load_step_function, set_load_function, scalars, table, state, step
                              step_velocity, sample_velocity, normal_load)
 
 
-@jit(inline="always")
+@jit
 def settled_step(scalars, table, state, step, displacement, step_velocity, sample_velocity,
                  normal_load):
     """The table brought to the load first (:func:`set_load_apart`, or the stale weights), then the GMS step.
@@ -368,7 +368,7 @@ def settled_step_with(set_load_function, scalars, table, state, step, displaceme
                            scalars[STATIC_COEFFICIENT] * normal_load)
 
 
-@jit(inline="always")
+@jit
 def pol_ind_force(scalars, table, state, sample_velocity, normal_load):
     return force_with(set_load_apart, scalars, table, state, sample_velocity, normal_load)
 
@@ -381,6 +381,6 @@ def force_with(set_load_function, scalars, table, state, sample_velocity, normal
     return gms_force(scalars, table, state, sample_velocity, normal_load)
 
 
-@jit(inline="always")
+@jit
 def pol_ind_tangent(scalars, table, state, step):
     return gms_tangent(scalars, table, state, step)

@@ -95,7 +95,7 @@ def plastic_load_step(scalars, table, state, step, displacement, step_velocity, 
                           step_velocity, sample_velocity, normal_load)
 
 
-@jit(inline="always")
+@jit
 def plastic_step(scalars, table, state, step, displacement, step_velocity, sample_velocity,
                  normal_load):
     """The Pol-Ind step (:func:`polind.kernels.pol_ind.pol_ind_step`) with elastic-plastic asperities."""
@@ -103,7 +103,7 @@ def plastic_step(scalars, table, state, step, displacement, step_velocity, sampl
                      step_velocity, sample_velocity, normal_load)
 
 
-@jit(inline="always")
+@jit
 def plastic_settled_step(scalars, table, state, step, displacement, step_velocity, sample_velocity,
                          normal_load):
     """:func:`polind.kernels.pol_ind.settled_step` with elastic-plastic asperities."""
@@ -111,6 +111,6 @@ def plastic_settled_step(scalars, table, state, step, displacement, step_velocit
                              step_velocity, sample_velocity, normal_load)
 
 
-@jit(inline="always")
+@jit
 def plastic_force(scalars, table, state, sample_velocity, normal_load):
     return force_with(plastic_set_load, scalars, table, state, sample_velocity, normal_load)

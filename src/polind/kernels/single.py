@@ -51,7 +51,7 @@ DAHL_COULOMB = 1
 DAHL_EXPONENT = 2
 
 
-@jit(inline="always")
+@jit
 def dahl_step(scalars, table, state, step, displacement, step_velocity, sample_velocity,
               normal_load):
     """Dahl over one increment, exactly (the equation depends on the travelled distance only)."""
@@ -67,12 +67,12 @@ def dahl_step(scalars, table, state, step, displacement, step_velocity, sample_v
     return force
 
 
-@jit(inline="always")
+@jit
 def dahl_force(scalars, table, state, sample_velocity, normal_load):
     return state[0]
 
 
-@jit(inline="always")
+@jit
 def dahl_tangent(scalars, table, state, step):
     return scalars[DAHL_STIFFNESS] * step
 
@@ -122,12 +122,12 @@ def _lugre_force_at(scalars, z, velocity):
                         scalars[LUGRE_VISCOUS])
 
 
-@jit(inline="always")
+@jit
 def lugre_force(scalars, table, state, sample_velocity, normal_load):
     return _lugre_force_at(scalars, state[0], sample_velocity)
 
 
-@jit(inline="always")
+@jit
 def lugre_step(scalars, table, state, step, displacement, step_velocity, sample_velocity,
                normal_load):
     """LuGre over one step with the exact exponential update (:ref:`guide-lugre`).
@@ -148,7 +148,7 @@ def lugre_step(scalars, table, state, step, displacement, step_velocity, sample_
                         scalars[LUGRE_VISCOUS])
 
 
-@jit(inline="always")
+@jit
 def lugre_tangent(scalars, table, state, step):
     return scalars[LUGRE_STIFFNESS] * step + scalars[LUGRE_DAMPING] + scalars[LUGRE_VISCOUS]
 
@@ -249,7 +249,7 @@ LEUVEN_CAPACITY = 8    # sum W_i [N]
 N_LEUVEN_SCALARS = 9
 
 
-@jit(inline="always")
+@jit
 def leuven_step(scalars, table, state, step, displacement, step_velocity, sample_velocity,
                 normal_load):
     """Modified Leuven model (:ref:`guide-leuven`) with an implicit (backward Euler) step.
@@ -304,14 +304,14 @@ def leuven_step(scalars, table, state, step, displacement, step_velocity, sample
     return hysteresis + scalars[LEUVEN_DAMPING] * rate + scalars[LEUVEN_VISCOUS] * sample_velocity
 
 
-@jit(inline="always")
+@jit
 def leuven_force(scalars, table, state, sample_velocity, normal_load):
     n = table.shape[1]
     return (element_sum(state[:n]) + scalars[LEUVEN_DAMPING] * state[n + 1]
             + scalars[LEUVEN_VISCOUS] * sample_velocity)
 
 
-@jit(inline="always")
+@jit
 def leuven_tangent(scalars, table, state, step):
     n = table.shape[1]
     return (step * elastic_stiffness(table[0], state[:n], table[1]) + scalars[LEUVEN_DAMPING]

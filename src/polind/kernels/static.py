@@ -21,7 +21,7 @@ STRIBECK_SHAPE = 5     # polind.kernels.stribeck shape code
 N_SCALARS = 6
 
 
-@jit(inline="always")
+@jit
 def memoryless_force(scalars, table, state, sample_velocity, normal_load):
     """``g(v) sgn(v) + sigma2 v`` at the sample's velocity (``sgn(0) = 0``)."""
     g = stribeck_curve(sample_velocity, scalars[COULOMB], scalars[STATIC],
@@ -30,14 +30,14 @@ def memoryless_force(scalars, table, state, sample_velocity, normal_load):
     return g * sign(sample_velocity) + scalars[VISCOUS] * sample_velocity
 
 
-@jit(inline="always")
+@jit
 def memoryless_step(scalars, table, state, step, displacement, step_velocity, sample_velocity,
                     normal_load):
     """No state: the force at the step's end sample."""
     return memoryless_force(scalars, table, state, sample_velocity, normal_load)
 
 
-@jit(inline="always")
+@jit
 def memoryless_tangent(scalars, table, state, step):
     """dF/dw away from w = 0: the viscous term only."""
     return scalars[VISCOUS]
