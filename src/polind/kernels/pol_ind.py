@@ -186,14 +186,27 @@ def set_load(scalars, table, state, normal_load):
 
 
 @jit(inline="always")
+def element_at_load(force, slip, height, previous_separation, limit):
+    """One element brought to a new load: ``(force, slip direction)``.
+
+    Out of contact before (its height not above the previous separation) or
+    now (its new capacity ``limit = alpha_j mu_s N`` is 0), it starts stuck
+    (slip direction 0; as a product: a select here stops the vectoriser);
+    its force is clipped to ``[-limit, limit]`` (0 out of contact).  The one
+    rule of :func:`set_load_with` and :func:`fresh_elements`.
+    """
+    slip = slip * (1.0 if (height > previous_separation) & (limit > 0.0) else 0.0)
+    return min(max(force, -limit), limit), slip
+
+
+@jit(inline="always")
 def set_load_with(capacities, scalars, table, state, normal_load):
     """Re-evaluate the element table at a new normal load [N] with a capacities function.
 
     The separation and the element stiffnesses and capacities
     (``capacities``, e.g. :func:`surface_capacities`), the weights
-    (:func:`share_rows`); then, in short loops that each write one array:
-    slip directions reset where an element is out of contact or just back
-    in, and forces clipped to the new capacities ``alpha_j mu_s N``.
+    (:func:`share_rows`); then each element brought to the load
+    (:func:`element_at_load`).
     """
     n = table.shape[1]
     heights = state[2 * n:3 * n]
@@ -205,14 +218,9 @@ def set_load_with(capacities, scalars, table, state, normal_load):
     element_force = state[:n]
     slip_direction = state[n:2 * n]
     for j in range(n):
-        # Out of contact before, or now (new capacity 0): it starts stuck, from
-        # zero force (the clip below).  The reset as fresh_elements writes it.
-        slip_direction[j] = slip_direction[j] * (
-            1.0 if (heights[j] > previous_separation) & (weight[j] * capacity_scale > 0.0)
-            else 0.0)
-    for j in range(n):
-        capacity = weight[j] * capacity_scale
-        element_force[j] = min(max(element_force[j], -capacity), capacity)
+        element_force[j], slip_direction[j] = element_at_load(
+            element_force[j], slip_direction[j], heights[j], previous_separation,
+            weight[j] * capacity_scale)
     scalars[CURRENT_LOAD] = normal_load
     scalars[SEPARATION] = separation
     scalars[TABLE_STALE] = 0.0
@@ -243,12 +251,10 @@ def fresh_elements(element_force, slip_direction, stiffness, breakaway, heights,
         alpha = breakaway_force * reciprocal
         inverse = total / breakaway_force if breakaway_force > 0.0 else math.inf
         limit = alpha * static_force
-        # set_load: reset (as a product: a select here stops the vectoriser) and clip.
-        slip = slip_direction[i] * (
-            1.0 if (heights[i] > previous_separation) & (limit > 0.0) else 0.0)
-        force, slip = gms_element(min(max(element_force[i], -limit), limit), slip,
-                                  stiffness[i], alpha, inverse, capacity_scale, direction,
-                                  displacement, decay_rate)
+        force, slip = element_at_load(element_force[i], slip_direction[i], heights[i],
+                                      previous_separation, limit)
+        force, slip = gms_element(force, slip, stiffness[i], alpha, inverse, capacity_scale,
+                                  direction, displacement, decay_rate)
         element_force[i] = force
         slip_direction[i] = slip
         result += force
