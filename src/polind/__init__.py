@@ -17,8 +17,8 @@ A model as a discrete-time python-control system (optional extra
 from polind.errors import InputError, ValidityWarning
 
 __all__ = ["InputError", "ValidityWarning", "MODEL_TYPES", "FrictionModel", "State", "SimulationResult",
-           "StepFunctions", "StepKernel", "register_model", "unregister_model", "Param", "Table", "Stepper", "Body", "BodyBatch",
-           "load_model", "model_from_dict", "save_model", "simulate", "System", "SystemResult",
+           "StepFunctions", "StepKernel", "register_model", "unregister_model", "Param", "Table", "Stepper", "Body",
+           "BodyBatch", "load_model", "model_from_dict", "save_model", "simulate", "System", "SystemResult",
            "load_system", "simulate_system", "identify", "FitResult",
            "identify_maxwell_slip", "identify_gms", "identify_stribeck", "compare", "Comparison",
            "sweep", "SweepSummary"]

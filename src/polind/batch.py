@@ -45,7 +45,9 @@ def _per_body(name, value, count, kind=None):
 
 
 class BodyBatch:
-    """``count`` bodies with friction on one contact law, stepped together (:ref:`guide-body-batch`).
+    """``count`` bodies with friction on one contact law, stepped together.
+
+    The user guide, :ref:`guide-body-batch`.
 
     Parameters
     ----------

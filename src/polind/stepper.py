@@ -426,7 +426,7 @@ class Body:
     def state(self) -> State:
         """The model's state at the current sample, with the body's history (a copy).
 
-        Its variable ``"body"`` (:data:`HISTORY`, then a mounted contact's
+        Its variable ``"body"`` (``polind.stepper.HISTORY``, then a mounted contact's
         spring force, contact position and contact velocity) is what the next
         step needs besides the model's state: a ``Body`` built from this
         state continues this one bit for bit.

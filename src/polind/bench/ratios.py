@@ -2,9 +2,10 @@
 
 The figures the user-loop API is held to: :class:`polind.Stepper` and a
 moving :class:`polind.Body` against a bare Python-to-numba call,
-:class:`polind.BodyBatch` per body-step against :func:`polind.simulate_system`, :func:`polind.simulate` end to end against the bare
-numba loops of :mod:`polind.bench.references`, and the Pol-Ind model under a
-varying against a constant normal load (:func:`run_ratios`).
+:class:`polind.BodyBatch` per body-step against :func:`polind.simulate_system`,
+:func:`polind.simulate` end to end against the bare numba loops of
+:mod:`polind.bench.references`, and the Pol-Ind model under a varying against a
+constant normal load (:func:`run_ratios`).
 
 The machine the figures are taken on is shared, and absolute rates vary by 2x
 between runs; a ratio of two timings taken in the same run, interleaved,

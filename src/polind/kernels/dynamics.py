@@ -483,7 +483,7 @@ def body_advance_with(stepper, memoryless, rest_capacity, force_scale, mount, sc
 def body_batch_with(stepper, memoryless, rest_capacity, force_scale, mounts, scalars, table,
                     states, scratch, method, masses, clock, bodies, applied_forces, normal_load,
                     out):
-    """One step of every body of a :class:`polind.BodyBatch`: row ``i`` as :func:`body_advance_with`.
+    """One step of every body of a :class:`polind.BodyBatch`, each as :func:`body_advance_with`.
 
     ``mounts``, ``states`` and ``bodies`` have one row per body, ``masses``
     and ``applied_forces`` one entry; all share the contact law (``scalars``,
