@@ -398,7 +398,7 @@ API_GROUPS = (
     ("Models and files", ("load_model", "model_from_dict", "save_model", "MODEL_TYPES",
                           "FrictionModel", "register_model", "Param", "Table", "State")),
     ("Prescribed motion", ("simulate", "SimulationResult")),
-    ("Your own loop", ("Stepper", "Body", "StepKernel", "StepFunctions")),
+    ("Your own loop", ("Stepper", "Body", "BodyBatch", "StepKernel", "StepFunctions")),
     ("One-degree-of-freedom systems", ("System", "SystemResult", "load_system",
                                        "simulate_system")),
     ("Identification", ("identify", "FitResult", "identify_maxwell_slip", "identify_gms",

@@ -18,7 +18,7 @@ from polind.errors import InputError, ValidityWarning
 
 __all__ = ["InputError", "ValidityWarning", "MODEL_TYPES", "FrictionModel", "State", "SimulationResult",
            "StepFunctions", "StepKernel", "register_model", "unregister_model", "Param", "Table", "Stepper", "Body",
-           "load_model", "model_from_dict", "save_model", "simulate", "System", "SystemResult",
+           "BodyBatch", "load_model", "model_from_dict", "save_model", "simulate", "System", "SystemResult",
            "load_system", "simulate_system", "identify", "FitResult",
            "identify_maxwell_slip", "identify_gms", "identify_stribeck", "compare", "Comparison",
            "sweep", "SweepSummary"]
@@ -40,7 +40,7 @@ _LAZY = {"MODEL_TYPES": "polind.models", "FrictionModel": "polind.models",
          "identify_gms": "polind.identification",
          "identify_stribeck": "polind.identification",
          "compare": "polind.identification", "Comparison": "polind.identification",
-         "Stepper": "polind.stepper", "Body": "polind.stepper",
+         "Stepper": "polind.stepper", "Body": "polind.stepper", "BodyBatch": "polind.batch",
          "System": "polind.dynamics", "SystemResult": "polind.dynamics",
          "load_system": "polind.dynamics", "simulate_system": "polind.dynamics",
          "sweep": "polind.sweeps", "SweepSummary": "polind.sweeps"}

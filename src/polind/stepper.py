@@ -56,7 +56,9 @@ def start_state(model, state, owner):
         raise InputError(f"The 'state' of {owner} must be a polind State (a result's "
                          f"final_state or State.from_dict). Got {describe(state)} instead.")
     model.check_state(state)
-    return state.copy()
+    start = state.copy()
+    start.variables.pop(BODY_KEY, None)      # a Body's history (Body reads it on its own)
+    return start
 
 
 class LoadCheck:
@@ -326,18 +328,22 @@ class Body:
     (0.0, 0.0, 0.5)
     """
 
-    def __init__(self, model, mass=1.0, time_step=1e-3, position=0.0, velocity=0.0,
+    def __init__(self, model, mass=1.0, time_step=1e-3, position=None, velocity=None,
                  state=None, method="bdf2"):
         from polind.dynamics import METHODS, initial_friction
 
         check_model(model, "Body")
         mass = check_number("Body", "mass", mass, "positive")
         time_step = check_number("Body", "time_step", time_step, "positive")
-        if method not in METHODS:
+        if not isinstance(method, str) or method not in METHODS:
             raise InputError(f"The 'method' of Body must be one of 'bdf2', 'euler'. "
                              f"Got {describe(method)} instead.")
-        position = check_number("Body", "position", position)
-        velocity = check_number("Body", "velocity", velocity)
+        history = carried_history(state)
+        if history is not None:
+            position = _agrees("position", position, history[1])
+            velocity = _agrees("velocity", velocity, history[2])
+        position = check_number("Body", "position", 0.0 if position is None else position)
+        velocity = check_number("Body", "velocity", 0.0 if velocity is None else velocity)
         start = start_state(model, state, "Body")
         kernel = model.step_kernel(start, varying_load=True)
         self._model = model
@@ -346,26 +352,63 @@ class Body:
         self._mass = mass
         self._time_step = time_step
         self._method = METHODS[method]
-        self._start_time = start.time if state is not None else 0.0
-        step = (self._start_time + time_step) - self._start_time
-        if not abs(step - time_step) <= _STEP_TOLERANCE * time_step:
-            raise _lost_step(self._start_time, time_step, step)
-        self._steps = 0
         self._memoryless = kernel.rest_capacity is not None
         self._rest_capacity = kernel.rest_capacity if self._memoryless else 0.0
-        self._scratch = kernel.scratch
         self._check_load = LoadCheck(model, start, "Body")
-        self._last_load = kernel.normal_load
-        friction = initial_friction(kernel, velocity, 0.0)
-        # [x_n, v_n, v_{n-1}, w_n, history, friction]: what the next step needs.
-        self._body = np.array([position, velocity, velocity, velocity, 0.0, friction])
+        start_time = start.time if state is not None else 0.0
+        if history is None:
+            self._last_load = kernel.normal_load
+            friction = initial_friction(kernel, velocity, 0.0)
+            # [x_n, v_n, v_{n-1}, w_n, history, friction]: what the next step needs.
+            self._body = np.array([position, velocity, velocity, velocity, 0.0, friction])
+            # [t_0, n, h]: the current time is t_0 + n h (polind.kernels.dynamics.clock_step).
+            self._clock = np.array([start_time, 0.0, time_step])
+        else:
+            self._restore(history, time_step, start_time)
+        step = (self._clock[0] + time_step) - self._clock[0]
+        if not abs(step - time_step) <= _STEP_TOLERANCE * time_step:
+            raise _lost_step(self._clock[0], time_step, step)
+        self._bind()
+
+    def _restore(self, history, time_step, start_time):
+        """Continue the body whose ``state`` carried ``history`` (:func:`carried_history`)."""
+        kernel = self._kernel
+        self._body = np.array([history[1], history[2], history[4], history[5], history[6],
+                               history[3]])
+        self._last_load = float(history[7])
+        if self._last_load != kernel.normal_load:
+            # The kernel arrays at the load the model was last brought to (the state is there).
+            kernel.force(kernel.scalars, kernel.table, kernel.state.copy(), float(history[2]),
+                         self._last_load)
+        if history[10] == time_step:
+            self._clock = np.array([history[8], history[9], time_step])
+        else:
+            self._clock = np.array([start_time, 0.0, time_step])
+        if kernel.mount is not None and history.shape[0] == len(HISTORY) + 3:
+            kernel.mount[_MOUNT_WORK] = history[len(HISTORY):]
+
+    def _bind(self):
+        """The compiled step and its arguments, bound once (``step`` passes these types)."""
+        from polind.models.kernel import RIGID
+
+        kernel = self._kernel
+        runners = kernel.runners
+        mounted = kernel.mount is not None
+        self._arguments = (self._memoryless, self._rest_capacity, float(kernel.force_scale),
+                           kernel.mount if mounted else RIGID, kernel.scalars, kernel.table,
+                           kernel.state, kernel.scratch, self._method, self._mass, self._clock,
+                           self._body)
+        function = runners.mounted_body_advance if mounted else runners.body_advance
+        self._function = function
+        self._advance = compiled_entry(function, *self._arguments, float(kernel.normal_load),
+                                       0.0)
 
     def _time_at(self, steps):
-        return self._start_time + steps * self._time_step
+        return self._clock[0] + steps * self._time_step
 
     @property
     def time(self) -> float:
-        return self._time_at(self._steps)
+        return float(self._time_at(self._clock[1]))
 
     @property
     def position(self) -> float:
@@ -381,8 +424,57 @@ class Body:
 
     @property
     def state(self) -> State:
-        return _state_of(self._model, self._template, self._kernel.state, self.time,
-                         self.position, self.velocity, self.friction)
+        """The model's state at the current sample, with the body's history (a copy).
+
+        Its variable ``"body"`` (``polind.stepper.HISTORY``, then a mounted contact's
+        spring force, contact position and contact velocity) is what the next
+        step needs besides the model's state: a ``Body`` built from this
+        state continues this one bit for bit.
+        """
+        state = _state_of(self._model, self._template, self._kernel.state, self.time,
+                          self.position, self.velocity, self.friction)
+        body, clock = self._body, self._clock
+        history = [state.time, body[0], body[1], body[5], body[2], body[3], body[4],
+                   self._last_load, clock[0], clock[1], clock[2]]
+        if self._kernel.mount is not None:
+            history += list(self._kernel.mount[_MOUNT_WORK])
+        state.variables[BODY_KEY] = np.array(history, dtype=np.float64)
+        return state
+
+    def copy(self) -> "Body":
+        """An independent body at the same sample (its arrays copied): for rollouts."""
+        import dataclasses
+
+        twin = object.__new__(Body)
+        twin.__dict__.update(self.__dict__)
+        kernel = self._kernel
+        twin._kernel = dataclasses.replace(
+            kernel, scalars=kernel.scalars.copy(), table=kernel.table.copy(),
+            state=kernel.state.copy(), mount=None if kernel.mount is None else kernel.mount.copy())
+        twin._body = self._body.copy()
+        twin._clock = self._clock.copy()
+        twin._check_load = LoadCheck(self._model, self._template, "Body")
+        twin._bind()
+        return twin
+
+    def compiled(self):
+        """This body's step for a loop of your own compiled with numba: ``(step, arguments)``.
+
+        ``x, v, F = step(*arguments, applied_force)`` in an ``@njit`` function
+        is :meth:`step` at the model's own normal load, bit for bit, on this
+        body's own arrays: the body advances (its ``time``, ``position``,
+        ``state``, ... follow).  ``step`` is the model's runner
+        ``body_advance`` (:mod:`polind.kernels.template`); a step that the
+        body's absolute time rounds away returns NaNs and changes nothing.
+        (:ref:`guide-body-compiled`).
+        """
+        kernel = self._kernel
+        if self._last_load != kernel.normal_load:
+            # Back to the model's own load, as the next step() without a load would.
+            kernel.force(kernel.scalars, kernel.table, kernel.state, float(self._body[1]),
+                         kernel.normal_load)
+            self._last_load = kernel.normal_load
+        return self._function, self._arguments + (float(kernel.normal_load),)
 
     def step(self, applied_force, normal_load=None):
         """Hold ``applied_force`` [N] over one step; return ``(x, v, F)`` at its end.
@@ -392,23 +484,67 @@ class Body:
         """
         if type(applied_force) is not float:
             applied_force = check_number("Body.step", "applied_force", applied_force)
-        elif not -math.inf < applied_force < math.inf:
+        elif not -_INF < applied_force < _INF:
             raise InputError(f"The 'applied_force' of Body.step must be finite. "
                              f"Got {applied_force!r} instead.")
-        kernel = self._kernel
-        load = kernel.normal_load if normal_load is None else self._check_load(normal_load)
+        if normal_load is None:
+            load = self._kernel.normal_load
+        else:
+            load = self._check_load(normal_load)
         if load != self._last_load:
             # Bring the model to the new load on its real state first (the model's
             # force function does that): the solver's trials run on a copy.
+            kernel = self._kernel
             kernel.force(kernel.scalars, kernel.table, kernel.state, float(self._body[1]), load)
             self._last_load = load
-        # The step from the sample times as simulate_system computes them.
-        step = self._time_at(self._steps + 1) - self._time_at(self._steps)
-        if not abs(step - self._time_step) <= _STEP_TOLERANCE * self._time_step:
-            raise _lost_step(self._time_at(self._steps), self._time_step, step)
-        kernel.advance_body(self._memoryless, self._rest_capacity, kernel.force_scale,
-                            kernel.scalars, kernel.table, kernel.state, self._scratch,
-                            self._method, self._mass, step, applied_force, self._body, load)
-        self._steps += 1
-        body = self._body
-        return float(body[0]), float(body[1]), float(body[5])
+        x, v, friction = self._advance(*self._arguments, load, applied_force)
+        if x != x and self._lost():
+            steps = self._clock[1]
+            raise _lost_step(self._time_at(steps), self._time_step,
+                             self._time_at(steps + 1) - self._time_at(steps))
+        return x, v, friction
+
+    def _lost(self):
+        steps = self._clock[1]
+        step = self._time_at(steps + 1) - self._time_at(steps)
+        return not abs(step - self._time_step) <= _STEP_TOLERANCE * self._time_step
+
+
+#: The variable ``"body"`` of :attr:`Body.state`, in this order (then, behind a series
+#: spring, its force, the contact's position and the contact's velocity).
+HISTORY = ("time", "position", "velocity", "force", "previous_velocity", "step_velocity",
+           "history", "last_load", "start_time", "steps", "time_step")
+BODY_KEY = "body"
+_MOUNT_WORK = slice(6, 9)     # polind.kernels.mount: SPRING_FORCE .. CONTACT_VELOCITY
+
+
+def carried_history(state):
+    """The body history a state carries (its ``"body"`` variable), or None.
+
+    Only a history of the state's own sample counts (its time, position,
+    velocity and force): a state that moved on since (``simulate`` from it)
+    carries a stale one, which is ignored.
+    """
+    if not isinstance(state, State):
+        return None
+    history = state.variables.get(BODY_KEY)
+    if history is None:
+        return None
+    history = np.asarray(history, dtype=np.float64).reshape(-1)
+    if history.shape[0] not in (len(HISTORY), len(HISTORY) + 3):
+        raise InputError(f"The state's '{BODY_KEY}' entry (a Body's history) has "
+                         f"{history.shape[0]} numbers; expected {len(HISTORY)}, or "
+                         f"{len(HISTORY) + 3} for a model with [model.compliance].")
+    own = (state.time, state.position, state.velocity, state.force)
+    if tuple(float(value) for value in history[:4]) != tuple(float(value) for value in own):
+        return None
+    return history
+
+
+def _agrees(name, given, own):
+    """A Body's ``position``/``velocity`` beside a state with a history: the history's."""
+    own = float(own)
+    if given is not None and given != own:
+        raise InputError(f"The '{name}' of Body is the state's ({own!r}) when the state "
+                         f"carries a Body's history. Got {given!r} instead.")
+    return own

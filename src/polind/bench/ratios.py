@@ -1,9 +1,11 @@
 """The ratio rows of ``polind bench``: two timings taken in the same run, and their ratio.
 
-The figures the user-loop API is held to: :class:`polind.Stepper` against a
-bare Python-to-numba call, :func:`polind.simulate` end to end against the bare
-numba loops of :mod:`polind.bench.references`, and the Pol-Ind model under a
-varying against a constant normal load (:func:`run_ratios`).
+The figures the user-loop API is held to: :class:`polind.Stepper` and a
+moving :class:`polind.Body` against a bare Python-to-numba call,
+:class:`polind.BodyBatch` per body-step against :func:`polind.simulate_system`,
+:func:`polind.simulate` end to end against the bare numba loops of
+:mod:`polind.bench.references`, and the Pol-Ind model under a varying against a
+constant normal load (:func:`run_ratios`).
 
 The machine the figures are taken on is shared, and absolute rates vary by 2x
 between runs; a ratio of two timings taken in the same run, interleaved,
@@ -84,6 +86,85 @@ def stepper_call_ratio(model, calls=20_000, rounds=7):
     bare_time, stepper_time = _interleaved([bare, stepper], rounds)
     return stepper_time / bare_time, (f"{stepper_time / calls * 1e9:.0f} ns vs "
                                       f"{bare_time / calls * 1e9:.0f} ns per call")
+
+
+def _moving_pushes(model, steps):
+    """Forces that keep a 1 kg body sliding at 1 kHz: 1.5 times its steady force at 1 cm/s, in
+    a slow square wave (it reverses every 100 steps, so it sticks briefly and breaks away)."""
+    from polind.simulation import simulate
+
+    t = np.array([0.0, 0.1])
+    level = 1.5 * abs(float(simulate(model, t, v=[1e-2, 1e-2]).force[-1]))
+    signs = np.where((np.arange(steps) // 100) % 2 == 0, 1.0, -1.0)
+    return level * signs
+
+
+def body_call_ratio(model, steps=5_000, rounds=7):
+    """A moving ``Body.step`` per call over a bare Python-to-numba call; ``(ratio, detail)``.
+
+    The body (1 kg, 1 kHz) is pushed by :func:`_moving_pushes`; the detail
+    also gives the compiled step alone (``Body.compiled`` in a numba loop),
+    which is what the Python call adds to.
+    """
+    from polind.kernels import jit
+    from polind.stepper import Body
+
+    pushes = _moving_pushes(model, steps)
+    forces = pushes.tolist()
+
+    @jit(cache=False)
+    def compiled_loop(step, arguments, pushes):
+        for k in range(pushes.shape[0]):
+            step(*arguments, pushes[k])
+
+    def bare():
+        call = bare_call
+        for force in forces:
+            call(force)
+
+    def body():
+        step = Body(model, time_step=1e-3).step
+        for force in forces:
+            step(force)
+
+    def compiled():
+        step, arguments = Body(model, time_step=1e-3).compiled()
+        compiled_loop(step, arguments, pushes)
+
+    bare_time, body_time, compiled_time = _interleaved([bare, body, compiled], rounds)
+    return body_time / bare_time, (f"{body_time / steps * 1e9:.0f} ns vs "
+                                   f"{bare_time / steps * 1e9:.0f} ns per call; the compiled "
+                                   f"step alone {compiled_time / steps * 1e9:.0f} ns")
+
+
+def batch_step_ratio(model, count=64, steps=2_000, rounds=5):
+    """``BodyBatch`` per body-step over a ``simulate_system`` step of the same model.
+
+    ``count`` bodies of 1 kg at 1 kHz, each pushed by :func:`_moving_pushes`
+    (shifted by a few steps per body), against ``simulate_system`` of one such
+    body over ``count * steps`` steps; ``(ratio, detail)``.
+    """
+    from polind.batch import BodyBatch
+    from polind.dynamics import System, simulate_system
+
+    pushes = _moving_pushes(model, steps + count)
+    rows = np.array([pushes[k:k + count] for k in range(steps)])
+    long_pushes = _moving_pushes(model, count * steps)
+    system = System(mass=1.0, duration=count * steps * 1e-3, time_step=1e-3)
+
+    def batch():
+        step = BodyBatch(model, count, time_step=1e-3).step
+        for row in rows:
+            step(row)
+
+    def system_run():
+        simulate_system(model, system, applied=long_pushes[:system.times.shape[0]])
+
+    batch_time, system_time = _interleaved([batch, system_run], rounds)
+    per_batch = batch_time / (count * steps)
+    per_system = system_time / (system.times.shape[0] - 1)
+    return per_batch / per_system, (f"{per_batch * 1e9:.0f} ns vs {per_system * 1e9:.0f} ns "
+                                    f"per body-step ({count} bodies)")
 
 
 def _simulate_ratio(model, reference, samples, rounds):
@@ -246,10 +327,16 @@ def run_ratios(progress=None):
         if progress is not None:
             progress(rows[-1])
 
-    for label, model, target in (("LuGre", LuGre.example(), 5.0),
+    for label, model, target in (("LuGre", LuGre.example(), 3.0),
+                                 ("Pol-Ind (64)", PolInd.example(), 3.0),
                                  ("GMS, 64 elements", GMS.example(elements=64), 8.0)):
         add(f"Stepper.advance / bare numba call: {label}", stepper_call_ratio(model), target,
             True)
+    for label, model in (("LuGre", LuGre.example()), ("Pol-Ind (64)", PolInd.example())):
+        add(f"moving Body.step / bare numba call: {label}", body_call_ratio(model), 5.0, True)
+    for label, model in (("LuGre", LuGre.example()), ("Pol-Ind (64)", PolInd.example())):
+        add(f"BodyBatch / simulate_system per body-step: {label}", batch_step_ratio(model),
+            2.0, True)
     add("bare loop / simulate: Maxwell-slip, 64 elements",
         maxwell_slip_simulate_ratio(64, 1_000_000), 0.7, False)
     add("bare loop / simulate: Maxwell-slip, 1024 elements",

@@ -432,3 +432,81 @@ def advance_body_with(stepper, arguments):
     body[3] = step_velocity
     body[4] = 1.0 if history else 0.0
     body[5] = friction
+
+
+@jit(fastmath=False)
+def clock_step(clock):
+    """The step from sample ``n`` to ``n + 1`` of ``clock = [t_0, n, h]``, or NaN if it is lost.
+
+    ``(t_0 + (n + 1) h) - (t_0 + n h)``, the step of the sample times as
+    :func:`polind.simulate_system` computes them (without fast-math: a fused
+    multiply-add or a reassociation would give another step than the Python
+    side of :class:`polind.Body` computes).  NaN when the rounding of the
+    absolute time takes more than 1e-6 of ``h`` from it.
+    """
+    start, steps, length = clock[0], clock[1], clock[2]
+    step = (start + (steps + 1.0) * length) - (start + steps * length)
+    if not abs(step - length) <= 1e-6 * length:
+        return np.nan
+    return step
+
+
+@jit(inline="always")
+def body_advance_with(stepper, memoryless, rest_capacity, force_scale, mount, scalars, table,
+                      state, scratch, method, mass, clock, body, normal_load, applied_force):
+    """One step of :class:`polind.Body` from its own arrays: ``(x, v, F)`` at its end.
+
+    ``body`` is ``[x_n, v_n, v_{n-1}, w_n, history, friction]`` and ``clock``
+    ``[t_0, n, h]`` (:func:`clock_step`); both, ``state`` and (behind a
+    series spring) ``mount`` are advanced in place.  A lost step
+    (:func:`clock_step`) changes nothing and returns NaNs.  The arithmetic of
+    :func:`advance_body_with`.
+    """
+    step = clock_step(clock)
+    if step != step:
+        return np.nan, np.nan, np.nan
+    x, v, friction, step_velocity, history = stepper(
+        memoryless, rest_capacity, force_scale, mount, scalars, table, state, scratch, method,
+        mass, 0.0, step, applied_force, body[0], body[1], body[2], body[3], body[4] != 0.0,
+        normal_load)
+    body[2] = body[1]
+    body[0] = x
+    body[1] = v
+    body[3] = step_velocity
+    body[4] = 1.0 if history else 0.0
+    body[5] = friction
+    clock[1] += 1.0
+    return x, v, friction
+
+
+@jit(inline="always")
+def body_batch_with(stepper, memoryless, rest_capacity, force_scale, mounts, scalars, table,
+                    states, scratch, method, masses, clock, bodies, applied_forces, normal_load,
+                    out):
+    """One step of every body of a :class:`polind.BodyBatch`, each as :func:`body_advance_with`.
+
+    ``mounts``, ``states`` and ``bodies`` have one row per body, ``masses``
+    and ``applied_forces`` one entry; all share the contact law (``scalars``,
+    ``table``) and ``clock``.  ``out`` (3, n) receives ``x``, ``v`` and
+    ``F``.  Returns False (and changes nothing) for a lost step.
+    """
+    step = clock_step(clock)
+    if step != step:
+        return False
+    for i in range(states.shape[0]):
+        body = bodies[i]
+        x, v, friction, step_velocity, history = stepper(
+            memoryless, rest_capacity, force_scale, mounts[i], scalars, table, states[i],
+            scratch, method, masses[i], 0.0, step, applied_forces[i], body[0], body[1], body[2],
+            body[3], body[4] != 0.0, normal_load)
+        body[2] = body[1]
+        body[0] = x
+        body[1] = v
+        body[3] = step_velocity
+        body[4] = 1.0 if history else 0.0
+        body[5] = friction
+        out[0, i] = x
+        out[1, i] = v
+        out[2, i] = friction
+    clock[1] += 1.0
+    return True

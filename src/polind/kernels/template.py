@@ -35,6 +35,7 @@ model_step = model_force = model_tangent = model_settled = None
 # --- template: every line below is copied into each generated module ---
 from polind.kernels.contract import VALID, run_motion, run_steps  # noqa: E402
 from polind.kernels.dynamics import (advance_body_with, bare_commit, bare_trial,  # noqa: E402
+                                     body_advance_with, body_batch_with,
                                      body_step as body_step_with, integrate_system_with)
 from polind.kernels.series import (contact_trial, mounted_commit,  # noqa: E402
                                    mounted_step_with, mounted_trial, run_mounted_with)
@@ -137,6 +138,24 @@ def body(arguments):
 
 
 @jit
+def body_advance(memoryless, rest_capacity, force_scale, mount, scalars, table, state, scratch,
+                 method, mass, clock, body, normal_load, applied_force):
+    """:func:`polind.kernels.dynamics.body_advance_with` of :func:`body_step`: ``(x, v, F)``."""
+    return body_advance_with(body_step, memoryless, rest_capacity, force_scale, mount, scalars,
+                             table, state, scratch, method, mass, clock, body, normal_load,
+                             applied_force)
+
+
+@jit
+def body_batch(memoryless, rest_capacity, force_scale, mounts, scalars, table, states, scratch,
+               method, masses, clock, bodies, applied_forces, normal_load, out):
+    """:func:`polind.kernels.dynamics.body_batch_with` of :func:`body_step`."""
+    return body_batch_with(body_step, memoryless, rest_capacity, force_scale, mounts, scalars,
+                           table, states, scratch, method, masses, clock, bodies,
+                           applied_forces, normal_load, out)
+
+
+@jit
 def spring_trial(memoryless, mount, scalars, table, state, scratch, velocity, step,
                  sample_slope, sample_offset, normal_load):
     """The spring's solve's trial: :func:`polind.kernels.series.contact_trial` of the model."""
@@ -199,3 +218,21 @@ def mounted_integrate(arguments):
 def mounted_body(arguments):
     """:func:`body` of the mounted contact."""
     advance_body_with(mounted_body_step, arguments)
+
+
+@jit
+def mounted_body_advance(memoryless, rest_capacity, force_scale, mount, scalars, table, state,
+                         scratch, method, mass, clock, body, normal_load, applied_force):
+    """:func:`body_advance` of the mounted contact."""
+    return body_advance_with(mounted_body_step, memoryless, rest_capacity, force_scale, mount,
+                             scalars, table, state, scratch, method, mass, clock, body,
+                             normal_load, applied_force)
+
+
+@jit
+def mounted_body_batch(memoryless, rest_capacity, force_scale, mounts, scalars, table, states,
+                       scratch, method, masses, clock, bodies, applied_forces, normal_load, out):
+    """:func:`body_batch` of the mounted contact."""
+    return body_batch_with(mounted_body_step, memoryless, rest_capacity, force_scale, mounts,
+                           scalars, table, states, scratch, method, masses, clock, bodies,
+                           applied_forces, normal_load, out)
