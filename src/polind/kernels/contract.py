@@ -153,7 +153,8 @@ def run_motion(step, force, scalars, table, state, source_t, source_motion, t, m
                 t1 = source_t[lo + 1]
                 if not (t1 > t[lo] and t1 < math.inf):
                     return BAD_TIME, lo + 1
-                h, dx, sample_velocity, x1, code = motion_step(False, t[lo], t1, motion[lo],
+                # by_velocity (false here), not a literal False: one compiled motion_step.
+                h, dx, sample_velocity, x1, code = motion_step(by_velocity, t[lo], t1, motion[lo],
                                                                source_motion[lo + 1], 0.0)
                 if code != VALID:
                     return code, lo + 1

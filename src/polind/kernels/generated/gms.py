@@ -53,11 +53,14 @@ def motion(scalars, table, state, source_t, source_motion, t, motion, by_velocit
         return motion_samples(scalars, table, state, source_t, source_motion, t, motion,
                               by_velocity, start_position, start_velocity, continuing, position,
                               velocity, loads, constant_load, lo, hi, first, out_force)
+    # Computed, not literal, booleans: a literal True or False would compile
+    # motion_samples once more for each.
+    yes, no = hi > lo, hi < lo
     if first:
         # The force at the start and the first step, at the start's velocity.
         code, index = motion_samples(scalars, table, state, source_t, source_motion, t, motion,
                                      by_velocity, start_position, start_velocity, continuing,
-                                     position, velocity, loads, constant_load, lo, lo + 2, True,
+                                     position, velocity, loads, constant_load, lo, lo + 2, yes,
                                      out_force)
         if code != VALID:
             return code, index
@@ -69,7 +72,7 @@ def motion(scalars, table, state, source_t, source_motion, t, motion, by_velocit
         if b < 0:
             return motion_samples(scalars, table, state, source_t, source_motion, t, motion,
                                   by_velocity, start_position, start_velocity, continuing,
-                                  position, velocity, loads, constant_load, a - 1, hi, False,
+                                  position, velocity, loads, constant_load, a - 1, hi, no,
                                   out_force)
         a = b
     return VALID, -1
