@@ -63,6 +63,11 @@ _INV_SQRT_2PI = 1.0 / math.sqrt(2.0 * math.pi)
 _SQRT_2 = math.sqrt(2.0)
 
 
+def _addresses():
+    """SciPy's Bessel addresses as the model kernels hold them (float64, writable): one compile."""
+    return special_addresses().astype(np.float64)
+
+
 def half_integer_pair(s: float) -> tuple[float, float]:
     """``(F_{1/2}(s), F_{3/2}(s))`` for one float ``s``, as Python floats.
 
@@ -81,7 +86,7 @@ def half_integer_pair(s: float) -> tuple[float, float]:
         ``F_{1/2}(s)`` and ``F_{3/2}(s)``; ``(0, 0)`` at ``+inf``,
         ``(inf, inf)`` at ``-inf``, NaN for NaN.
     """
-    return gw_half_integer_pair(float(s), special_addresses())
+    return gw_half_integer_pair(float(s), _addresses())
 
 
 def _upper_tail(s):
@@ -141,7 +146,7 @@ def gw_integral(m, s):
         value = _first_moment(s_array)
     else:
         # The compiled pair at every element (polind.kernels.greenwood).
-        f_half, f_three_halves = gw_half_integer_pairs(np.ravel(s_array), special_addresses())
+        f_half, f_three_halves = gw_half_integer_pairs(np.ravel(s_array), _addresses())
         value = (f_half if order == 0.5 else f_three_halves).reshape(s_array.shape)
     return float(value) if np.ndim(s) == 0 else value
 

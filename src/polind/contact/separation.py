@@ -72,7 +72,6 @@ __all__ = ["solve_separation", "solve_separation_series", "RELATIVE_TOLERANCE"]
 RELATIVE_TOLERANCE = _kernels.RELATIVE_TOLERANCE
 
 # The arrays a statistical surface passes for the direct surface's summits.
-_NO_SUMMITS = np.empty(0)
 
 
 def _checked_load(value, where: str = "") -> float:
@@ -154,11 +153,20 @@ def _kernel_surface(surface) -> tuple:
     Hertz weights ``c_i sqrt(R_i / R)`` as the counts, so the kernels' loads
     are those of ``surface.load_and_slope`` to the bit.
     """
+    # The types the model's kernels pass (float64 kind and addresses, writable arrays):
+    # one compiled solver serves both.
+    addresses = special_addresses().astype(np.float64)
     if surface.kind == "statistical":
-        return (_kernels.STATISTICAL, surface._load_scale, surface.height_std, _NO_SUMMITS, _NO_SUMMITS,
-                0.0, special_addresses())
-    return (_kernels.DIRECT, 0.0, 1.0, surface.heights, surface.weights, surface._hertz_scale(),
-            special_addresses())
+        return (_kernels.STATISTICAL, surface._load_scale, surface.height_std, np.empty(0),
+                np.empty(0), 0.0, addresses)
+    return (_kernels.DIRECT, 0.0, 1.0, _writable(surface.heights), _writable(surface.weights),
+            surface._hertz_scale(), addresses)
+
+
+def _writable(values):
+    """``values`` as a writable C-contiguous float64 array (a copy only if it is not one)."""
+    values = np.ascontiguousarray(values, dtype=np.float64)
+    return values if values.flags.writeable else values.copy()
 
 
 def _lower_bound(surface, load: float, arguments: tuple) -> float:

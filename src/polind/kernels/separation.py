@@ -83,7 +83,10 @@ __all__ = [
 ]
 
 #: Surface kinds of the ``kind`` argument.
-STATISTICAL, DIRECT = 0, 1
+# Floats: the kind is a slot of a model's float64 scalars, and every caller, compiled or
+# Python, passes it as a float64 (an int constant would be typed as a literal of its
+# own and compile the solver once more).
+STATISTICAL, DIRECT = 0.0, 1.0
 
 #: Required accuracy of the load balance, ``|N(d) - N_app| <= tol N_app``.
 RELATIVE_TOLERANCE = 1e-10
@@ -98,8 +101,6 @@ STATISTICAL_STOP = 0.9 * RELATIVE_TOLERANCE
 MAX_ITERATIONS = 2200
 
 _FAST_LOWER, _FAST_UPPER = FAST_RANGE
-# The summit arrays a statistical surface passes to newton_separation_counted.
-_NO_SUMMITS = np.empty(0)
 
 
 @jit(fastmath=False)
@@ -441,8 +442,11 @@ def statistical_separation_at(load, lo, hi, load_scale, height_std, kve_address,
     value, slope = statistical_load_and_slope(d, load_scale, height_std, addresses)
     if abs(value - load) <= STATISTICAL_STOP * load:
         return d, value, slope, 1
+    # Empty summit arrays made here: a global array is a read-only constant to numba,
+    # a type of its own (another compile of the solver).
+    no_summits = np.empty(0)
     d, value, slope, evaluations = newton_separation_counted(load, d, lo, hi, STATISTICAL, load_scale,
-                                                             height_std, _NO_SUMMITS, _NO_SUMMITS, 0.0,
+                                                             height_std, no_summits, no_summits, 0.0,
                                                              addresses)
     return d, value, slope, 1 + evaluations
 
