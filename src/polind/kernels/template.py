@@ -33,7 +33,7 @@ from polind.kernels.contract import no_block as model_block, no_blocks as model_
 model_step = model_force = model_tangent = model_settled = None
 
 # --- template: every line below is copied into each generated module ---
-from polind.kernels.contract import VALID, run_motion, run_steps  # noqa: E402
+from polind.kernels.contract import VALID, no_blocks, run_motion, run_steps  # noqa: E402
 from polind.kernels.dynamics import (advance_body_with, bare_commit, bare_trial,  # noqa: E402
                                      body_advance_with, body_batch_with,
                                      body_step as body_step_with, integrate_system_with)
@@ -99,6 +99,12 @@ def motion(scalars, table, state, source_t, source_motion, t, motion, by_velocit
                                   out_force)
         a = b
     return VALID, -1
+
+
+# A model without blocks runs its motion one sample a pass: no second function to
+# compile, cache and load (model_blocks is then contract.no_blocks).
+if model_blocks is no_blocks:
+    motion = motion_samples  # noqa: F811
 
 
 @jit

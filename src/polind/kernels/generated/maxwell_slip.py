@@ -10,7 +10,7 @@ from polind.kernels.elements import maxwell_slip_step as model_step
 from polind.kernels.elements import maxwell_slip_force as model_force
 from polind.kernels.elements import maxwell_slip_tangent as model_tangent
 from polind.kernels.elements import maxwell_slip_step as model_settled
-from polind.kernels.contract import VALID, run_motion, run_steps  # noqa: E402
+from polind.kernels.contract import VALID, no_blocks, run_motion, run_steps  # noqa: E402
 from polind.kernels.dynamics import (advance_body_with, bare_commit, bare_trial,  # noqa: E402
                                      body_advance_with, body_batch_with,
                                      body_step as body_step_with, integrate_system_with)
@@ -76,6 +76,12 @@ def motion(scalars, table, state, source_t, source_motion, t, motion, by_velocit
                                   out_force)
         a = b
     return VALID, -1
+
+
+# A model without blocks runs its motion one sample a pass: no second function to
+# compile, cache and load (model_blocks is then contract.no_blocks).
+if model_blocks is no_blocks:
+    motion = motion_samples  # noqa: F811
 
 
 @jit
