@@ -82,10 +82,9 @@ __all__ = [
     "newton_separation_series",
 ]
 
-#: Surface kinds of the ``kind`` argument.
-# Floats: the kind is a slot of a model's float64 scalars, and every caller, compiled or
-# Python, passes it as a float64 (an int constant would be typed as a literal of its
-# own and compile the solver once more).
+#: Surface kinds of the ``kind`` argument: floats, as a model's float64 scalars hold
+#: them and every caller, compiled or Python, passes them (an int constant would be
+#: typed as a literal of its own and compile the solver once more).
 STATISTICAL, DIRECT = 0.0, 1.0
 
 #: Required accuracy of the load balance, ``|N(d) - N_app| <= tol N_app``.
