@@ -63,11 +63,14 @@ def standard_roughness(height_map: HeightMap) -> dict:
     valid = height_map.heights[~np.isnan(height_map.heights)]
     deviation = valid - valid.mean()
     sq = float(topography.Sq())
+    # The moments of the deviation in units of Sq: no power of a height is formed, so
+    # heights near the largest double give the same figures (sq**4 would overflow).
+    scaled = deviation / sq if sq > 0.0 else np.zeros_like(deviation)
     return {
         "Sa": float(np.mean(np.abs(deviation))),
         "Sq": sq,
-        "Ssk": float(np.mean(deviation**3) / sq**3) if sq > 0.0 else 0.0,
-        "Sku": float(np.mean(deviation**4) / sq**4) if sq > 0.0 else 0.0,
+        "Ssk": float(np.mean(scaled**3)),
+        "Sku": float(np.mean(scaled**4)),
         "Sdq": float(topography.rms_gradient()),
         "rms_curvature": float(topography.rms_curvature_from_area()),
     }
