@@ -152,7 +152,7 @@ def topography(map_path, as_json, plot_path, pixel_size, short_cutoff, remove_ou
     # What is printed goes first: a figure file appears only once it has (a file can be
     # left unwritten, a stream cannot take back what it took).
     if as_json:
-        click.echo(_finite_json(map_path, summary))
+        click.echo(json.dumps(summary, allow_nan=False))
     else:
         click.echo("\n".join(_topography_text(map_path, summary, None, to_stdout)),
                    err=to_stdout)
@@ -160,35 +160,6 @@ def topography(map_path, as_json, plot_path, pixel_size, short_cutoff, remove_ou
         io.atomic_write_bytes(plot_path, figure)
         if not (to_stdout or as_json):
             click.echo(f"\nwrote {plot_path}")
-
-
-def _non_finite(value, where=""):
-    """The key path of the first number in ``value`` that is not finite, or None."""
-    import math
-
-    if isinstance(value, dict):
-        items = ((f"{where}.{key}" if where else str(key), item) for key, item in value.items())
-    elif isinstance(value, (list, tuple)):
-        items = ((f"{where}[{index}]", item) for index, item in enumerate(value))
-    else:
-        return where if isinstance(value, float) and not math.isfinite(value) else None
-    for path, item in items:
-        found = _non_finite(item, path)
-        if found is not None:
-            return found
-    return None
-
-
-def _finite_json(map_path, summary) -> str:
-    """``summary`` as strict JSON, or an InputError naming the first number beyond a double."""
-    import json
-
-    bad = _non_finite(summary)
-    if bad is not None:
-        raise InputError(f"{map_path}: the map's '{bad}' is not a finite double at this pixel "
-                         "size and height scale; expected heights and pixel sizes whose "
-                         "products and ratios stay within double precision.")
-    return json.dumps(summary, allow_nan=False)
 
 
 def _topography_text(map_path, summary, plot_path, to_stdout) -> list:

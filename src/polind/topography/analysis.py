@@ -305,11 +305,12 @@ class MeasuredSurface:
             "cutoff_study": [dict(row) for row in self.cutoff_study],
             "warnings": list(self.warnings),
         }
-        for key, value in [*summary.items(), *summary["greenwood_williamson"].items()]:
-            if isinstance(value, float) and not np.isfinite(value):
-                raise InputError(f"{self.source}: its {key} is {value} (beyond double "
-                                 f"precision); expected heights and pixel sizes of a physical "
-                                 f"size.")
+        bad = _first_non_finite(summary)
+        if bad is not None:
+            key, value = bad
+            raise InputError(f"{self.source}: its {key} is {value} (beyond double "
+                             f"precision); expected heights and pixel sizes of a physical "
+                             f"size.")
         if effective_modulus is not None or hardness is not None:
             if effective_modulus is None or hardness is None:
                 missing = "effective_modulus" if effective_modulus is None else "hardness"
@@ -317,6 +318,21 @@ class MeasuredSurface:
                                  f"an effective modulus; expected the '{missing}' too.")
             summary["plasticity_index"] = self.plasticity_index(effective_modulus, hardness)
         return summary
+
+
+def _first_non_finite(value, where=""):
+    """``(key path, number)`` of the first float in ``value`` (nested dicts and lists) that is not finite."""
+    if isinstance(value, dict):
+        items = ((f"{where}.{key}" if where else str(key), item) for key, item in value.items())
+    elif isinstance(value, (list, tuple)):
+        items = ((f"{where}[{index}]", item) for index, item in enumerate(value))
+    else:
+        return (where, value) if isinstance(value, float) and not np.isfinite(value) else None
+    for path, item in items:
+        found = _first_non_finite(item, path)
+        if found is not None:
+            return found
+    return None
 
 
 def analyse(height_map: HeightMap, short_cutoff=None, *, remove_outliers=False,
