@@ -328,7 +328,7 @@ class Body:
     (0.0, 0.0, 0.5)
     """
 
-    def __init__(self, model, mass=1.0, time_step=1e-3, position=None, velocity=None,
+    def __init__(self, model, mass=1.0, time_step=1e-3, position=0.0, velocity=0.0,
                  state=None, method="bdf2"):
         from polind.dynamics import METHODS, initial_friction
 
@@ -542,9 +542,12 @@ def carried_history(state):
 
 
 def _agrees(name, given, own):
-    """A Body's ``position``/``velocity`` beside a state with a history: the history's."""
+    """A Body's ``position``/``velocity`` beside a state with a history: the history's.
+
+    0 (the default) or None is "not given", as for :class:`Stepper`'s state.
+    """
     own = float(own)
-    if given is not None and given != own:
+    if given is not None and given != 0.0 and given != own:
         raise InputError(f"The '{name}' of Body is the state's ({own!r}) when the state "
                          f"carries a Body's history. Got {given!r} instead.")
     return own
