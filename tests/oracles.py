@@ -418,7 +418,8 @@ def simulate(model: dict, t, x=None, v=None, **options) -> OracleResult:
 
 
 def pol_ind_varying_load(t, x, load, heights, root_weights, separation_at, g_star, mu_s, mu_k,
-                         stribeck_velocity=1e-3, attraction=1e4, element_law=None):
+                         stribeck_velocity=1e-3, attraction=1e4, element_law=None,
+                         count_scale=None):
     """Plain stepper of the Pol-Ind law under a time-varying normal load (positions ``x``).
 
     The elements are fixed in height (``heights``); at every sample the
@@ -430,7 +431,9 @@ def pol_ind_varying_load(t, x, load, heights, root_weights, separation_at, g_sta
     ``g(v) = N [mu_k + (mu_s - mu_k) exp(-(v / vs)^2)]`` advances the rest.
     ``element_law(delta)``, if given, returns the stiffnesses and the loads
     (any common scale) of the elements at the interferences ``delta`` instead
-    (elastic-plastic asperities).
+    (elastic-plastic asperities).  ``count_scale(N)``, if given, multiplies
+    every element's asperity count at the load ``N`` (a ball on a flat,
+    whose nominal area follows the load).
     """
     force_el = np.zeros(heights.size)
     slipping = np.zeros(heights.size)
@@ -444,6 +447,9 @@ def pol_ind_varying_load(t, x, load, heights, root_weights, separation_at, g_sta
             breakaway = root_weights * delta ** 1.5
         else:
             stiffness, breakaway = element_law(delta)
+        if count_scale is not None:
+            stiffness = stiffness * count_scale(load[k])
+            breakaway = breakaway * count_scale(load[k])
         alpha = breakaway / breakaway.sum()
         capacity = alpha * mu_s * load[k]
         now = delta > 0

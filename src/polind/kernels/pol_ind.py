@@ -22,6 +22,16 @@ table's share rows lag its capacities row until a step at an unchanged load
 brings them up to date (:func:`refresh_shares`).  The forces are those of
 :func:`set_load` followed by the GMS step, to rounding.
 
+A ball on a flat (:ref:`guide-measured-surfaces-ball`) makes the nominal
+area follow the load, ``A0 = pi (3 N R_b / (4 E*))^(2/3)``.  Everything
+that scales with ``A0`` is linear in it (the statistical load scale, the
+element counts ``n_j``, a measured map's summit weights), so with
+``r = A0(N) / A0(N_t) = (N / N_t)^(2/3)``, ``N_t`` the load the table was
+built at (:data:`BALL_LOAD`), the separation at ``N`` is the one that solves
+``N_t``'s surface at ``N / r`` and every element row is ``r`` times that
+surface's row (:func:`area_ratio`, :func:`new_capacities`).  Without a ball
+``r`` is exactly 1 and nothing changes, to the bit.
+
 The separation and the element rows at a new load come from a *capacities
 function* (:func:`surface_capacities` and its two kinds); the functions
 named ``..._with`` take one as their first argument, so that the
@@ -71,8 +81,11 @@ HERTZ = 21                # direct: (4/3) E* sqrt(R)
 ADDRESSES = 22            # two slots: polind.kernels.special.special_addresses()
 #: Scalar slot (work): 1 while the weight rows lag the capacities (:func:`load_step`).
 TABLE_STALE = 24
+#: Scalar slot: a ball on a flat's table load ``N_t`` [N] (its nominal area follows the
+#: load, :func:`area_ratio`); 0 without a ball.
+BALL_LOAD = 25
 #: Scalar slots of the Hertzian step.
-N_SCALARS = 25
+N_SCALARS = 26
 
 ELEMENT_SCRATCH = 3       # table row of capacities W_j [N] at the current load
 N_ROWS = 4
@@ -104,20 +117,40 @@ def statistical_separation(scalars, heights, counts, normal_load):
 
 
 @jit(inline="always")
+def area_ratio(scalars, normal_load):
+    """``r = A0(N) / A0(N_t) = (N / N_t)^(2/3)`` of a ball on a flat; exactly 1 without one.
+
+    The nominal area of a ball's Hertz contact is ``pi (3 N R_b / (4 E*))^(2/3)``
+    (:ref:`guide-measured-surfaces-ball`); ``N_t`` is :data:`BALL_LOAD`, the
+    load the table (and the surface in the scalars) was built at.
+    """
+    table_load = scalars[BALL_LOAD]
+    if table_load == 0.0:
+        return 1.0
+    return (normal_load / table_load) ** (2.0 / 3.0)
+
+
+@jit(inline="always")
 def new_capacities(separation_function, scalars, table, state, normal_load):
     """Solve the separation and evaluate the stiffness and capacity rows there; return ``d``.
 
     ``separation_function`` is :func:`statistical_separation` or
     :func:`direct_separation`.  Stores nothing else: the caller updates the
-    weights and the elements.
+    weights and the elements.  With a ball (:func:`area_ratio` ``r``) the
+    surface of the scalars, built at the table load, is solved at ``N / r``
+    and the rows are ``r`` times its rows: ``r`` scales ``G*`` for the
+    stiffnesses and ``mu_s`` for the capacities, both linear in them (without
+    a ball both products and ``N / r`` are by exactly 1).  ``N(d)`` and its
+    slope are kept for the surface at the table load, as the next start needs.
     """
     n = table.shape[1]
     heights = state[2 * n:3 * n]
     counts = state[3 * n:4 * n]
-    separation, value, slope = separation_function(scalars, heights, counts, normal_load)
+    ratio = area_ratio(scalars, normal_load)
+    separation, value, slope = separation_function(scalars, heights, counts, normal_load / ratio)
     element_properties(heights, counts, separation, scalars[RADIUS], scalars[E_STAR],
-                       scalars[G_STAR], scalars[STATIC_COEFFICIENT], table[ELEMENT_STIFFNESS],
-                       table[ELEMENT_SCRATCH])
+                       scalars[G_STAR] * ratio, scalars[STATIC_COEFFICIENT] * ratio,
+                       table[ELEMENT_STIFFNESS], table[ELEMENT_SCRATCH])
     scalars[LOAD_VALUE] = value
     scalars[LOAD_SLOPE] = slope
     return separation

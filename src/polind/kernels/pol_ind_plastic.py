@@ -8,7 +8,9 @@ the previous sample) and the element rows are re-evaluated with
 ``k_j = n_j 8 G* a(delta_j)``, ``W_j = n_j mu_s P(delta_j)``
 (:func:`polind.kernels.plastic.plastic_element_properties`); everything else
 (the weights, the resets and clips, the GMS update) is the Hertzian step's
-own code (:ref:`guide-pol-ind-plasticity`).  A model without a hardness never
+own code (:ref:`guide-pol-ind-plasticity`), and a ball's nominal area
+follows the load as there (:func:`polind.kernels.pol_ind.area_ratio`: the
+surface solved at ``N / r``, the rows times ``r``).  A model without a hardness never
 runs these functions.
 
 Arrays
@@ -31,7 +33,8 @@ from polind.kernels.plastic_separation import (CRITICAL_FACTOR, PLASTIC_SCALE, S
                                                YIELD_COEFFICIENT, plastic_lower, plastic_newton)
 from polind.kernels.pol_ind import (E_STAR, ELEMENT_SCRATCH, G_STAR, LOAD_SLOPE, LOAD_VALUE,
                                     LOWER, N_ROWS, N_SCALARS, RADIUS, SEPARATION,
-                                    STATIC_COEFFICIENT, UPPER, force_with, load_step_with,
+                                    STATIC_COEFFICIENT, UPPER, area_ratio, force_with,
+                                    load_step_with,
                                     pol_ind_tangent, set_load_with, settled_step_with, step_with)
 from polind.kernels.separation import predicted_start
 
@@ -58,21 +61,26 @@ def plastic_capacities(scalars, table, state, normal_load):
     the Newton iteration on a quadrature or a sum with jumps is no place for
     inlining).  Bracket: the statistical surface's range, or for a direct
     one the highest element alone carrying the load; start: the Newton step
-    predicted from the previous solution.
+    predicted from the previous solution.  With a ball the surface of the
+    table load is solved at ``N / r`` and the rows are ``r`` times its own
+    (:func:`polind.kernels.pol_ind.new_capacities`; ``G*`` and ``mu_s``
+    scaled, the rows being linear in both).
     """
+    ratio = area_ratio(scalars, normal_load)
+    load = normal_load / ratio
     n = table.shape[1]
     heights = state[2 * n:3 * n]
     weights = state[3 * n:4 * n]
     counts = table[ELEMENT_ASPERITIES]
     radii = table[ELEMENT_RADIUS]
     surface = scalars[PLASTIC_SURFACE:PLASTIC_SURFACE + SIZE]
-    lower = plastic_lower(normal_load, scalars[LOWER], surface, heights, counts, radii)
-    start = predicted_start(scalars[SEPARATION], scalars[LOAD_VALUE], scalars[LOAD_SLOPE],
-                            normal_load)
-    separation, value, slope, _ = plastic_newton(normal_load, start, lower, scalars[UPPER], surface,
+    lower = plastic_lower(load, scalars[LOWER], surface, heights, counts, radii)
+    start = predicted_start(scalars[SEPARATION], scalars[LOAD_VALUE], scalars[LOAD_SLOPE], load)
+    separation, value, slope, _ = plastic_newton(load, start, lower, scalars[UPPER], surface,
                                                  heights, weights, counts, radii)
     plastic_element_properties(heights, weights, counts, radii, separation, scalars[RADIUS],
-                               scalars[E_STAR], scalars[G_STAR], scalars[STATIC_COEFFICIENT],
+                               scalars[E_STAR], scalars[G_STAR] * ratio,
+                               scalars[STATIC_COEFFICIENT] * ratio,
                                surface[CRITICAL_FACTOR], surface[PLASTIC_SCALE],
                                surface[YIELD_COEFFICIENT], table[ELEMENT_STIFFNESS],
                                table[ELEMENT_SCRATCH])

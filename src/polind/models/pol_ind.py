@@ -512,6 +512,9 @@ class PolInd(FrictionModel):
             scalars[slots.UPPER] = float(np.max(state.variables["element_height"]))
         scalars[slots.HERTZ] = (4.0 / 3.0) * surface.E_star * np.sqrt(surface.asperity_radius)
         scalars[slots.ADDRESSES:slots.ADDRESSES + 2] = special_addresses()
+        if p["surface"].get("ball_radius"):
+            # A ball's nominal area follows the load: the kernel scales this surface's.
+            scalars[slots.BALL_LOAD] = table_load
         table = np.zeros((slots.N_ROWS, gms_table.shape[1]))
         table[:gms_table.shape[0]] = gms_table
         if surface.yields:
@@ -533,26 +536,36 @@ class PolInd(FrictionModel):
 
     def load_bounds(self, state):
         table_load = float(state.variables["table_load"][0])
-        smallest = self.contact(table_load).surface.load_range[0]
-        return max(smallest, 0.0), table_load
+        return self._smallest_load(table_load), table_load
+
+    def _smallest_load(self, table_load):
+        """The smallest load [N] a run on the table built at ``table_load`` [N] may use.
+
+        The surface's own smallest load (a statistical surface's separation
+        range), or 0.  With a ball the surface of a load ``N`` is the table
+        load's with its area times ``r = (N / N_t)^(2/3)``, solved at
+        ``N / r = N^(1/3) N_t^(2/3)``: that must reach the smallest load
+        ``L`` of the table load's surface, so ``N >= L^3 / N_t^2``.
+        """
+        smallest = max(self.contact(table_load).surface.load_range[0], 0.0)
+        if self._params["surface"].get("ball_radius"):
+            smallest = smallest ** 3 / table_load ** 2
+        return smallest
 
     def check_loads(self, loads, state):
-        """Loads the run may use: at most the state's table load, within the surface's range."""
+        """Loads the run may use: at most the state's table load, within the surface's range.
+
+        With a ball the nominal area follows each load
+        (:ref:`guide-measured-surfaces-ball`), and so does the smallest load
+        (:meth:`_smallest_load`).
+        """
         table_load = float(state.variables["table_load"][0])
         peak = float(np.max(loads))
-        other = None
-        if self._params["surface"].get("ball_radius"):      # no copy of the loads otherwise
-            other = np.abs(np.asarray(loads) - table_load) > 1e-12 * table_load
-        if other is not None and np.any(other):
-            raise InputError(f"A 'normal_load' that varies ({float(loads[np.argmax(other)])!r} N, "
-                             f"the contact built at {table_load!r} N) is not supported with "
-                             f"'surface.ball_radius' of pol-ind: a run keeps the ball's Hertz "
-                             f"area at one load. Expected a constant load, or 'nominal_area'.")
         if peak > table_load * (1.0 + 1e-12):
             raise InputError(f"The 'normal_load' reaches {peak!r} N but the state's element "
                              f"table was built for at most {table_load!r} N; start the first "
                              f"chunk with the largest load or simulate the record at once.")
-        smallest = self.contact(table_load).surface.load_range[0]
+        smallest = self._smallest_load(table_load)
         low = float(np.min(loads))
         if low < smallest:
             index = int(np.argmin(loads))
