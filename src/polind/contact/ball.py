@@ -11,7 +11,11 @@ is the patch the ball flattens.  Hertz's solution for a sphere of radius
 and the nominal area ``A0 = pi a^2`` over which the asperities meet
 (``E*`` of the same material pair as the asperities).  ``[model.surface]
 ball_radius`` puts this ``A0`` in place of ``nominal_area``
-(:func:`polind.contact.build_surface`).
+(:func:`polind.contact.build_surface`).  **Choice**: it is the nominal area at
+every load, ``A0(N) = pi (3 N R_b / (4 E*))^(2/3)``, and the summit counts
+scale with it; under a varying load the Pol-Ind step scales the surface of
+its table load by ``A0(N) / A0(N_t)``
+(:func:`polind.kernels.pol_ind.area_ratio`).
 """
 
 from __future__ import annotations

@@ -20,6 +20,12 @@ gives the rules for a time-varying load):
 * A continuation (``state=``) reuses the state's table; a load above the
   load the table was built for is an error (start the first chunk with the
   largest load, or pass the whole record at once).
+* A ball on a flat (``surface.ball_radius``): the ball's Hertz area is the
+  nominal area at every load, ``A0(N) = pi (3 N R_b / (4 E*))^(2/3)``, and the
+  summit counts scale with it (:ref:`guide-measured-surfaces-ball`): at a
+  load ``N`` the kernel solves the table load's surface at ``N / r`` and
+  scales every element row by ``r = A0(N) / A0(N_t)``; a sampled direct
+  surface keeps the summits drawn at the table load, each standing for ``r``.
 * The separation ``d(t)`` is solved on the continuous surface
   (:ref:`guide-pol-ind-separation`).  Statistical bins are placed for the largest load, so far below it
   the table is coarser: with 64 bins built at 100 N the presliding
@@ -556,8 +562,8 @@ class PolInd(FrictionModel):
         """Loads the run may use: at most the state's table load, within the surface's range.
 
         With a ball the nominal area follows each load
-        (:ref:`guide-measured-surfaces-ball`), and so does the smallest load
-        (:meth:`_smallest_load`).
+        (:ref:`guide-measured-surfaces-ball`): the smallest load is then
+        ``L^3 / N_t^2``, ``L`` the smallest of the table load ``N_t``'s surface.
         """
         table_load = float(state.variables["table_load"][0])
         peak = float(np.max(loads))

@@ -62,7 +62,8 @@ SURFACE_TABLE = Table("surface", (
           description="The height channel of a map file with several, by name."),
     Param("ball_radius", unit="m", default=None, fittable=False,
           description=("Ball on flat: the ball's radius; the nominal area is its Hertz contact "
-                       "at the (constant) normal load (:ref:`guide-measured-surfaces-ball`)."),
+                       "at the normal load, and follows a varying load "
+                       "(:ref:`guide-measured-surfaces-ball`)."),
           symbol="R_b"),
 ), description="The rough surface (:ref:`guide-pol-ind-surface`).")
 MATERIALS_TABLE = Table("materials", (
