@@ -287,8 +287,8 @@ def test_a_hardness_model_under_a_ball_solves_each_load_on_its_area():
         stiffness, capacity = np.empty(n), np.empty(n)
         surface = kernel.scalars[pol_ind_plastic.PLASTIC_SURFACE:]
         plastic.plastic_element_properties(
-            *rows, d, RADIUS, E_STAR, G_STAR, MU_S, surface[CRITICAL_FACTOR], surface[PLASTIC_SCALE],
-            surface[YIELD_COEFFICIENT], stiffness, capacity)
+            *rows, d, RADIUS, E_STAR, G_STAR, MU_S, surface[CRITICAL_FACTOR],
+            surface[PLASTIC_SCALE], surface[YIELD_COEFFICIENT], stiffness, capacity)
         np.testing.assert_allclose(kernel.table[ELEMENT_STIFFNESS], ratio * stiffness,
                                    rtol=1e-8, atol=1e-9 * np.max(stiffness))
         np.testing.assert_allclose(kernel.table[slots.ELEMENT_SCRATCH], ratio * capacity,

@@ -118,16 +118,19 @@ def statistical_separation(scalars, heights, counts, normal_load):
 
 @jit(inline="always")
 def area_ratio(scalars, normal_load):
-    """``r = A0(N) / A0(N_t) = (N / N_t)^(2/3)`` of a ball on a flat; exactly 1 without one.
+    """``(r, N / r)`` of a ball on a flat, ``r = A0(N) / A0(N_t) = (N / N_t)^(2/3)``; or ``(1, N)``.
 
     The nominal area of a ball's Hertz contact is ``pi (3 N R_b / (4 E*))^(2/3)``
     (:ref:`guide-measured-surfaces-ball`); ``N_t`` is :data:`BALL_LOAD`, the
-    load the table (and the surface in the scalars) was built at.
+    load the table (and the surface in the scalars) was built at, and
+    ``N / r`` the load to solve that surface at.  Without a ball ``N`` is
+    passed on untouched: no division on the way to the separation.
     """
     table_load = scalars[BALL_LOAD]
     if table_load == 0.0:
-        return 1.0
-    return (normal_load / table_load) ** (2.0 / 3.0)
+        return 1.0, normal_load
+    ratio = (normal_load / table_load) ** (2.0 / 3.0)
+    return ratio, normal_load / ratio
 
 
 @jit(inline="always")
@@ -140,14 +143,15 @@ def new_capacities(separation_function, scalars, table, state, normal_load):
     surface of the scalars, built at the table load, is solved at ``N / r``
     and the rows are ``r`` times its rows: ``r`` scales ``G*`` for the
     stiffnesses and ``mu_s`` for the capacities, both linear in them (without
-    a ball both products and ``N / r`` are by exactly 1).  ``N(d)`` and its
-    slope are kept for the surface at the table load, as the next start needs.
+    a ball both products are by exactly 1 and the load is solved as given).
+    ``N(d)`` and its slope are kept for the surface at the table load, as the
+    next start needs.
     """
     n = table.shape[1]
     heights = state[2 * n:3 * n]
     counts = state[3 * n:4 * n]
-    ratio = area_ratio(scalars, normal_load)
-    separation, value, slope = separation_function(scalars, heights, counts, normal_load / ratio)
+    ratio, load = area_ratio(scalars, normal_load)
+    separation, value, slope = separation_function(scalars, heights, counts, load)
     element_properties(heights, counts, separation, scalars[RADIUS], scalars[E_STAR],
                        scalars[G_STAR] * ratio, scalars[STATIC_COEFFICIENT] * ratio,
                        table[ELEMENT_STIFFNESS], table[ELEMENT_SCRATCH])

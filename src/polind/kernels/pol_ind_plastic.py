@@ -66,8 +66,7 @@ def plastic_capacities(scalars, table, state, normal_load):
     (:func:`polind.kernels.pol_ind.new_capacities`; ``G*`` and ``mu_s``
     scaled, the rows being linear in both).
     """
-    ratio = area_ratio(scalars, normal_load)
-    load = normal_load / ratio
+    ratio, load = area_ratio(scalars, normal_load)
     n = table.shape[1]
     heights = state[2 * n:3 * n]
     weights = state[3 * n:4 * n]
