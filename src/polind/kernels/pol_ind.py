@@ -435,5 +435,5 @@ def fixed_load_step(scalars, table, state, step, displacement, step_velocity, sa
 
 @jit
 def fixed_load_force(scalars, table, state, sample_velocity, normal_load):
-    """:func:`pol_ind_force` of a run at the table's own constant load (see :func:`fixed_load_step`)."""
+    """``pol_ind_force`` of a run at the table's own constant load (see :func:`fixed_load_step`)."""
     return force_with(load_unchanged, scalars, table, state, sample_velocity, normal_load)

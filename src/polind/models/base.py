@@ -527,7 +527,7 @@ class FrictionModel:
             ``reference_load`` is then mounted with its load scaling.
         fixed_load : bool, default False
             The run stays at the model's own constant load (no ``normal_load``
-            given, none passed to the functions but :attr:`StepKernel.normal_load`):
+            given, none passed to the functions but the kernel's ``normal_load``):
             the model may then give lighter functions
             (:meth:`fixed_load_step_functions`), which compile faster and must
             not be stepped at another load.
