@@ -227,13 +227,53 @@ def test_varying_load_through_every_branch_of_the_step():
     assert 0 < np.sum(heights > lowest) < heights.size // 2
 
 
-def test_constant_load_array_equals_the_constant_load_model():
-    model = pol_ind()
+@pytest.mark.parametrize("changes", [{}, {"materials.hardness": 2e9},
+                                     {"compliance": {"stiffness": 2e6}}],
+                         ids=["hertz", "plastic", "compliance"])
+def test_constant_load_array_equals_the_constant_load_model(changes):
+    # Without a load the run takes the fixed-load step (no load path compiled); with a
+    # constant load array the full step: bit for bit the same forces.
+    table = default_table()
+    for key, value in changes.items():
+        if "." in key:
+            outer, inner = key.split(".")
+            table.setdefault(outer, {})[inner] = value
+        else:
+            table[key] = value
+    model = polind.model_from_dict({"model": table})
+    fixed = model.step_kernel(model.initial_state(), fixed_load=True)
+    full = model.step_kernel(model.initial_state(), np.array([100.0]))
+    assert fixed.runners is not full.runners and fixed.step is not full.step
     t = np.linspace(0.0, 0.5, 501)
-    x = 4e-7 * np.sin(2 * np.pi * 4 * t)
+    x = 4e-7 * np.sin(2 * np.pi * 4 * t) + 2e-4 * t
     a = polind.simulate(model, t, x=x).force
     b = polind.simulate(model, t, x=x, normal_load=np.full_like(t, 100.0)).force
     np.testing.assert_array_equal(a, b)
+    assert np.ptp(a) > 1.0
+
+
+def test_a_state_tabled_at_another_load_takes_the_full_step():
+    model = pol_ind()
+    state = polind.simulate(model, [0.0, 1e-3], x=[0.0, 1e-7],
+                            normal_load=[120.0, 120.0]).final_state
+    kernel = model.step_kernel(state, fixed_load=True)
+    assert kernel.step is model.step_functions().step
+    assert model.step_kernel(model.initial_state(), fixed_load=True).step \
+        is not model.step_functions().step
+
+
+def test_the_fixed_load_step_refuses_another_load():
+    # A caller that broke the fixed-load promise gets a non-finite force, never a wrong one.
+    from polind.kernels.pol_ind import fixed_load_step
+
+    model = pol_ind()
+    kernel = model.step_kernel(model.initial_state(), fixed_load=True)
+    force = fixed_load_step(kernel.scalars, kernel.table, kernel.state, 1e-3, 1e-8, 1e-5,
+                            1e-5, 90.0)
+    assert not math.isfinite(force)
+    kernel = model.step_kernel(model.initial_state(), fixed_load=True)
+    assert math.isfinite(fixed_load_step(kernel.scalars, kernel.table, kernel.state, 1e-3,
+                                         1e-8, 1e-5, 1e-5, 100.0))
 
 
 @pytest.mark.parametrize("varying", [False, True])

@@ -462,3 +462,68 @@ def test_parameter_blocks_are_model_files(demo_run, tmp_path):
         path = tmp_path / f"{label}.toml"
         path.write_text(block, encoding="utf-8")
         assert polind.load_model(path) == model, label
+
+
+# --- the models' experiments in processes of their own -----------------------------------------
+
+def test_experiments_in_processes_equal_those_in_this_process():
+    # A cheap model with every phenomenon: the pool's results are the in-process ones, bit
+    # for bit.
+    from polind.demo import _experiments, _experiments_in_processes
+    from polind.models import MODEL_TYPES
+
+    dahl = MODEL_TYPES["dahl"].example()
+    said = []
+    pooled = _experiments_in_processes({"a": dahl, "b": dahl}, 2, said.append)
+    here = _experiments("a", dahl)
+    assert list(pooled) in (["a", "b"], ["b", "a"]) and len(said) == 2 * len(PHENOMENA)
+    for phenomenon in PHENOMENA:
+        assert _same(vars(pooled["a"][phenomenon]), vars(here[phenomenon])), phenomenon
+
+
+def _same(a, b):
+    """Equal to the bit: the same structure, arrays and numbers (NaN equal to NaN)."""
+    if isinstance(a, dict):
+        return isinstance(b, dict) and list(a) == list(b) and all(_same(a[k], b[k]) for k in a)
+    if isinstance(a, (list, tuple)):
+        return type(a) is type(b) and len(a) == len(b) and all(map(_same, a, b))
+    if isinstance(a, (np.ndarray, float, np.floating)):
+        return np.array_equal(a, b, equal_nan=True) and np.shape(a) == np.shape(b)
+    if hasattr(a, "__dict__") and not isinstance(a, type):
+        return type(a) is type(b) and _same(vars(a), vars(b))
+    return a == b
+
+
+def _unscaled_coulomb():
+    from polind.models.static import Coulomb
+
+    class Unscaled(Coulomb):
+        """A model that declares no scales: the phenomena refuse it."""
+
+        def characteristic_scales(self):
+            return None
+
+    Unscaled.__module__, Unscaled.__qualname__ = __name__, "UNSCALED"
+    return Unscaled
+
+
+UNSCALED = _unscaled_coulomb()     # module level: a spawned process unpickles it by name
+
+
+def test_a_failed_experiment_in_a_process_is_the_input_error_it_raised():
+    from polind import InputError
+    from polind.demo import _experiments_in_processes
+
+    model = UNSCALED(coulomb_force=1.0)
+    with pytest.raises(InputError, match=r"^The stribeck experiment on lone: "):
+        _experiments_in_processes({"lone": model, "other": model}, 2, lambda what: None)
+
+
+@pytest.mark.parametrize("workers", [0, -1, 1.5, True, "2"])
+def test_workers_must_be_a_whole_number_of_processes(workers, tmp_path):
+    from polind import InputError
+    from polind.demo import run_demo
+
+    with pytest.raises(InputError, match="'workers' of run_demo"):
+        run_demo(tmp_path / "out", workers=workers)
+    assert not (tmp_path / "out").exists()

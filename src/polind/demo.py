@@ -111,7 +111,64 @@ def _progress_hooks(progress, total):
     return call
 
 
-def run_demo(out_dir="polind-report", progress=None, *, model=None) -> DemoSummary:
+def _workers(workers, models: int) -> int:
+    """The number of processes :func:`run_demo` uses (checked)."""
+    if workers is None:
+        return max(1, min(models, os.cpu_count() or 1))
+    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
+        raise InputError(f"The 'workers' of run_demo must be a whole number of processes, at "
+                         f"least 1. Got {workers!r} instead.")
+    return min(workers, models)
+
+
+def _experiments(label, friction_model, advance=None) -> dict:
+    """Every phenomenon's experiment on one model: ``{phenomenon: result}``."""
+    results = {}
+    for phenomenon in PHENOMENA:
+        try:        # a run the model's scales make too big is refused naming its experiment
+            results[phenomenon] = EXPERIMENTS[phenomenon](friction_model)
+        except InputError as error:
+            raise InputError(f"The {phenomenon} experiment on {label}: {error}") from None
+        if advance is not None:
+            advance(f"{phenomenon}: {label}")
+    return results
+
+
+def _experiments_in_processes(models: dict, workers: int, advance) -> dict:
+    """:func:`_experiments` of every model, one model a task, in ``workers`` new processes.
+
+    Processes are started fresh (``spawn``: no state of this process is
+    shared, the same on every platform); a model's kernels are compiled (or
+    loaded from the cache) in the process that runs it.  A failed experiment
+    ends the demo with its own error once the others have stopped.
+    """
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+
+    context = multiprocessing.get_context("spawn")
+    by_model = {}
+    failed = False
+    with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
+        tasks = {pool.submit(_experiments, label, friction_model): label
+                 for label, friction_model in models.items()}
+        for task in as_completed(tasks):
+            if task.cancelled() or task.exception() is not None:
+                failed = True
+                for other in tasks:        # the ones not started yet
+                    other.cancel()
+                continue
+            label = tasks[task]
+            by_model[label] = task.result()
+            for phenomenon in PHENOMENA:
+                advance(f"{phenomenon}: {label}")
+    if failed:      # the first model's error, in the models' order, whichever ended first
+        for task in tasks:
+            if not task.cancelled() and task.exception() is not None:
+                raise task.exception()
+    return by_model
+
+
+def run_demo(out_dir="polind-report", progress=None, *, model=None, workers=None) -> DemoSummary:
     """Run the six phenomena on Pol-Ind, LuGre, GMS and Maxwell-slip; write the report.
 
     Parameters
@@ -125,6 +182,14 @@ def run_demo(out_dir="polind-report", progress=None, *, model=None) -> DemoSumma
     model : polind.FrictionModel, optional
         The Pol-Ind model to run (default: the default parameter set,
         :ref:`formats-model-files`).
+    workers : int, optional
+        Processes the models' experiments run in, one model's six at a time
+        in each (default: as many as there are models and CPU cores, at most).
+        With one, every experiment runs in this process.  The results do not
+        depend on it: each model's experiments are the same calls either way.
+        On a first run most of the time is the compilation of each model's
+        kernels (:ref:`guide-first-run`), which the processes share out; a
+        progress bar then advances by a model's six experiments at once.
 
     Returns
     -------
@@ -146,14 +211,14 @@ def run_demo(out_dir="polind-report", progress=None, *, model=None) -> DemoSumma
     subject = next(iter(models))
     total = len(models) * len(PHENOMENA) + 1
     advance = _progress_hooks(progress, total)
-    results = {phenomenon: {} for phenomenon in PHENOMENA}
-    for phenomenon in PHENOMENA:
-        for label, friction_model in models.items():
-            try:        # a run the model's scales make too big is refused naming its experiment
-                results[phenomenon][label] = EXPERIMENTS[phenomenon](friction_model)
-            except InputError as error:
-                raise InputError(f"The {phenomenon} experiment on {label}: {error}") from None
-            advance(f"{phenomenon}: {label}")
+    workers = _workers(workers, len(models))
+    if workers == 1:
+        by_model = {label: _experiments(label, friction_model, advance)
+                    for label, friction_model in models.items()}
+    else:
+        by_model = _experiments_in_processes(models, workers, advance)
+    results = {phenomenon: {label: by_model[label][phenomenon] for label in models}
+               for phenomenon in PHENOMENA}
     info = {label: {"description": description, "parameters": m.to_dict()["model"]}
             for label, (m, description) in described.items()}
     written = report.write_report(results, out_dir, models=info, subject=subject)

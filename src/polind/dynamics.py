@@ -360,7 +360,7 @@ def simulate_system(model: FrictionModel, system: System, *, applied=None, initi
     if applied is not None:
         applied_steps = as_samples("applied", applied, n - 1)
     final_state = model.initial_state()
-    kernel = model.step_kernel(final_state)
+    kernel = model.step_kernel(final_state, fixed_load=True)
 
     x = np.empty(n)
     v = np.empty(n)

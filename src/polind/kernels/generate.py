@@ -47,6 +47,8 @@ MODELS = {
     "pol_ind": ("polind.kernels.pol_ind", {
         "step": "pol_ind_step", "force": "pol_ind_force", "tangent": "pol_ind_tangent",
         "settled": "settled_step"}),
+    "pol_ind_fixed_load": ("polind.kernels.pol_ind", {
+        "step": "fixed_load_step", "force": "fixed_load_force", "tangent": "pol_ind_tangent"}),
     "pol_ind_plastic": ("polind.kernels.pol_ind_plastic", {
         "step": "plastic_step", "force": "plastic_force", "tangent": "pol_ind_tangent",
         "settled": "plastic_settled_step"}),

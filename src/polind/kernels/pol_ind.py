@@ -436,3 +436,41 @@ def force_with(set_load_function, scalars, table, state, sample_velocity, normal
 @jit
 def pol_ind_tangent(scalars, table, state, step):
     return gms_tangent(scalars, table, state, step)
+
+
+@jit(inline="always")
+def load_unchanged(scalars, table, state, normal_load):
+    """The set-load function of a run that never leaves the table's load: nothing to bring.
+
+    Reached only if a caller broke that promise (a load other than
+    ``scalars[CURRENT_LOAD]``): the stiffness row becomes NaN, so the run
+    reports a non-finite force instead of stepping with the wrong table.
+    """
+    stiffness = table[ELEMENT_STIFFNESS]
+    for j in range(stiffness.shape[0]):
+        stiffness[j] = math.nan
+
+
+@jit
+def fixed_load_step(scalars, table, state, step, displacement, step_velocity, sample_velocity,
+                    normal_load):
+    """The step of a run at the table's own constant load (:ref:`guide-pol-ind-law`).
+
+    :func:`settled_step` without a load path: at a load that never changes
+    the model is the GMS law of its element table, and the separation solver
+    and the table's update at a new load (:func:`load_step`,
+    :func:`set_load`) are neither needed nor compiled, which more than
+    halves the compilation of a process with an empty cache.  The
+    stale weights a varying-load run may leave behind (:data:`TABLE_STALE`)
+    are still brought up to date.  The forces are :func:`pol_ind_step`'s at
+    that load, bit for bit.  Both the Hertzian and the elastic-plastic
+    arrays serve it (the plastic ones extend the Hertzian layout).
+    """
+    return settled_step_with(load_unchanged, scalars, table, state, step, displacement,
+                             step_velocity, sample_velocity, normal_load)
+
+
+@jit
+def fixed_load_force(scalars, table, state, sample_velocity, normal_load):
+    """``pol_ind_force`` of a run at the table's own constant load (see :func:`fixed_load_step`)."""
+    return force_with(load_unchanged, scalars, table, state, sample_velocity, normal_load)

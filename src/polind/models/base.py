@@ -314,6 +314,18 @@ class FrictionModel:
         raise NotImplementedError(f"The {type(self).__name__} model does not supply "
                                   "step_functions().")
 
+    def fixed_load_step_functions(self, state: State) -> StepFunctions | None:
+        """Lighter step functions for a run that never leaves the model's own load, or None.
+
+        Asked by :meth:`step_kernel` for a run at the model's constant load
+        from ``state`` (``fixed_load=True``).  A model whose step also
+        handles a changing normal load may return functions without that
+        path, which then need not be compiled; the arrays stay those of
+        :meth:`kernel_arrays`.  Default: None (the model's own
+        :meth:`step_functions` serve every run).
+        """
+        return None
+
     def kernel_arrays(self, state: State) -> tuple:
         """``(scalars, table)``: the float64 arrays its numba functions read."""
         raise NotImplementedError(f"The {type(self).__name__} model does not supply "
@@ -499,7 +511,7 @@ class FrictionModel:
             offset += size
 
     def step_kernel(self, state: State | None = None, normal_load=None, *,
-                    varying_load=None) -> StepKernel:
+                    varying_load=None, fixed_load=False) -> StepKernel:
         """The model as compiled code can step it: functions and flat arrays.
 
         Parameters
@@ -513,6 +525,12 @@ class FrictionModel:
             Whether the run may see loads other than the model's own
             (default: whether ``normal_load`` is given); a model with a
             ``reference_load`` is then mounted with its load scaling.
+        fixed_load : bool, default False
+            The run stays at the model's own constant load (no ``normal_load``
+            given, none passed to the functions but the kernel's ``normal_load``):
+            the model may then give lighter functions
+            (:meth:`fixed_load_step_functions`), which compile faster and must
+            not be stepped at another load.
 
         Returns
         -------
@@ -524,7 +542,11 @@ class FrictionModel:
             state = self.initial_state(normal_load)
         else:
             self.check_state(state)
-        functions = call_declared(self, "step_functions")
+        functions = None
+        if fixed_load and normal_load is None and not varying_load:
+            functions = self.fixed_load_step_functions(state)
+        if functions is None:
+            functions = call_declared(self, "step_functions")
         arrays = call_declared(self, "kernel_arrays", state)
         check_step_parts(self, functions, arrays, state.variables)
         scalars, table = arrays
