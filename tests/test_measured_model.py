@@ -469,3 +469,39 @@ def test_a_ball_radius_takes_a_varying_load_and_refuses_a_second_area(rough_map)
     with pytest.raises(polind.InputError, match="'surface.ball_radius' .* not used with a "
                                                 "'discretisation.heights_file'"):
         polind.model_from_dict({"model": table})
+
+
+def test_the_guides_path_from_the_shipped_map_to_a_presliding_loop(tmp_path):
+    # The user guide's "From a measured map to a presliding loop", its numbers as printed.
+    import shutil
+
+    shutil.copy(datasets.height_map_path("sur-2.sur"), tmp_path / "sur-2.sur")
+    (tmp_path / "model.toml").write_text(
+        '[model]\ntype = "pol-ind"\nnormal_load = 0.5\nstatic_coefficient = 0.15\n'
+        'kinetic_coefficient = 0.10\nstribeck_velocity = 1e-3\nattraction = 1e4\n'
+        '[model.surface]\ntopography = "sur-2.sur"\nremove_outliers = true\n'
+        'short_cutoff = 1.4e-5\n[model.materials]\nyoungs_modulus = [210e9, 210e9]\n'
+        'poisson_ratio = [0.3, 0.3]\nhardness = 2e9\n')
+    model = polind.load_model(tmp_path / "model.toml")
+    assert model.plastic
+    contact = model.contact()
+    validity = contact.validity()
+    assert round(validity["plasticity_index"], 2) == 0.06
+    assert validity["plastic_contact_share"] == validity["plastic_load_share"] == 0.0
+    assert round(validity["mean_real_pressure"] / 1e6) == 14
+    assert round(validity["peak_asperity_pressure"] / 1e6) == 55
+    table = model.element_table()
+    assert table.stiffness.size == 269
+    D = float(np.max(table.breakaway_force / table.stiffness))
+    assert round(D * 1e9, 2) == 0.73
+    path = [0.0, 1.5 * D, -1.5 * D, 0.3 * D, -0.3 * D, 1.5 * D]
+    t = np.linspace(0.0, 1.0, 5001)
+    x = np.interp(t, np.linspace(0.0, 1.0, len(path)), path)
+    force = polind.simulate(model, t, x=x).force
+    assert round(float(x[np.argmax(force >= 0.99 * 0.075)]) * 1e9, 2) == 0.62
+    # The inner loop closes on its starting reversal (0.3 D, at t = 0.6): the outer
+    # curve goes on from there, through the force it had when it left.
+    inner_start = np.argmin(np.abs(t - 0.6))
+    assert round(float(force[inner_start]), 4) == 0.0741
+    after = np.flatnonzero((t > 0.8) & (x >= x[inner_start]))[0]
+    np.testing.assert_allclose(force[after], force[inner_start], atol=2e-4 * 0.075)
