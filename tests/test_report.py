@@ -510,6 +510,46 @@ def _unscaled_coulomb():
 UNSCALED = _unscaled_coulomb()     # module level: a spawned process unpickles it by name
 
 
+def _warning_dahl():
+    import warnings
+
+    from polind.models.dahl import Dahl
+
+    class Warns(Dahl):
+        """A Dahl model that warns whenever an experiment sizes itself."""
+
+        def characteristic_scales(self):
+            warnings.warn("sized in its own process", UserWarning)
+            return super().characteristic_scales()
+
+    Warns.__module__, Warns.__qualname__ = __name__, "WARNS"
+    return Warns
+
+
+WARNS = _warning_dahl()
+
+
+def test_warnings_and_the_memory_limit_cross_to_the_processes():
+    import warnings
+
+    from polind import InputError
+    from polind.demo import _experiments_in_processes
+    from polind.resources import set_memory_limit
+
+    model = WARNS(**WARNS.example().params)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        _experiments_in_processes({"a": model}, 2, lambda what: None)
+    said = [str(w.message) for w in caught if "own process" in str(w.message)]
+    assert said == ["sized in its own process"]          # given here, once
+    set_memory_limit(1e3)
+    try:
+        with pytest.raises(InputError, match=r"set by --max-memory"):
+            _experiments_in_processes({"a": model}, 2, lambda what: None)
+    finally:
+        set_memory_limit(None)
+
+
 def test_a_failed_experiment_in_a_process_is_the_input_error_it_raised():
     from polind import InputError
     from polind.demo import _experiments_in_processes

@@ -134,22 +134,46 @@ def _experiments(label, friction_model, advance=None) -> dict:
     return results
 
 
+def _experiments_apart(label, friction_model, limit) -> tuple:
+    """:func:`_experiments` in a process of its own: ``(results, warnings)``.
+
+    ``limit`` is the memory limit of the process that started this one; the
+    warnings are returned as ``(message, category)`` pairs, for that process
+    to give as its own.
+    """
+    import warnings
+
+    from polind.resources import set_memory_limit
+
+    set_memory_limit(limit)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("default")
+        results = _experiments(label, friction_model)
+    return results, [(str(w.message), w.category) for w in caught]
+
+
 def _experiments_in_processes(models: dict, workers: int, advance) -> dict:
     """:func:`_experiments` of every model, one model a task, in ``workers`` new processes.
 
-    Processes are started fresh (``spawn``: no state of this process is
-    shared, the same on every platform); a model's kernels are compiled (or
-    loaded from the cache) in the process that runs it.  A failed experiment
-    ends the demo with its own error once the others have stopped.
+    Processes are started fresh (``spawn``: the same on every platform); each
+    gets this process's memory limit, and its warnings are given here, once
+    each.  A model's kernels are compiled (or loaded from the cache) in the
+    process that runs it.  A failed experiment ends the demo with its own
+    error (the first model's, in the models' order) once the others have
+    stopped.
     """
     import multiprocessing
+    import warnings
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
+    from polind.resources import given_memory_limit
+
     context = multiprocessing.get_context("spawn")
+    limit = given_memory_limit()
     by_model = {}
     failed = False
     with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
-        tasks = {pool.submit(_experiments, label, friction_model): label
+        tasks = {pool.submit(_experiments_apart, label, friction_model, limit): label
                  for label, friction_model in models.items()}
         for task in as_completed(tasks):
             if task.cancelled() or task.exception() is not None:
@@ -158,10 +182,12 @@ def _experiments_in_processes(models: dict, workers: int, advance) -> dict:
                     other.cancel()
                 continue
             label = tasks[task]
-            by_model[label] = task.result()
+            by_model[label], caught = task.result()
+            for message, category in dict.fromkeys(caught):
+                warnings.warn(message, category, stacklevel=2)
             for phenomenon in PHENOMENA:
                 advance(f"{phenomenon}: {label}")
-    if failed:      # the first model's error, in the models' order, whichever ended first
+    if failed:
         for task in tasks:
             if not task.cancelled() and task.exception() is not None:
                 raise task.exception()

@@ -47,6 +47,15 @@ def set_memory_limit(limit_bytes: float | None) -> None:
     _LIMIT = None if limit_bytes is None else float(limit_bytes)
 
 
+def given_memory_limit() -> float | None:
+    """The limit [bytes] :func:`set_memory_limit` set, or None (the default is in force).
+
+    What a process that starts another passes on, so that the new one refuses
+    what this one would (:func:`polind.demo.run_demo`'s processes).
+    """
+    return _LIMIT
+
+
 def memory_limit() -> float:
     """The limit [bytes] in force: the one set, else half of :func:`available_memory`."""
     return _LIMIT if _LIMIT is not None else 0.5 * available_memory()
