@@ -94,3 +94,27 @@ def test_the_mounted_path_is_cached_after_its_first_process(tmp_path):
     assert first == second
     assert cold == "0 1"        # compiled in the first process
     assert warm == "1 0"        # loaded from the cache in the second
+
+
+SAME_RUN = ("import numpy as np, polind\n"
+            "from polind.models import MODEL_TYPES\n"
+            "t = np.cumsum(np.random.default_rng(7).uniform(1e-4, 2e-4, 3001))\n"
+            "x = 3e-5 * np.sin(2 * np.pi * 30 * t)\n"
+            "for name in ('lugre', 'gms'):\n"
+            "    force = polind.simulate(MODEL_TYPES[name].example(), t, x=x).force\n"
+            "    print(force.tobytes().hex())\n")
+
+
+def test_a_run_is_the_same_to_the_bit_from_a_cold_and_from_a_warm_cache(tmp_path):
+    # With the compiler free to fuse multiply-adds, a kernel loaded from the cache rounded
+    # one last place differently from the same kernel compiled in the process (LuGre's
+    # blocks, 404 of 3001 forces): a result depended on whether the cache was warm.
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "cache"))
+    runs = []
+    for _ in range(2):
+        done = subprocess.run([sys.executable, "-c", SAME_RUN], env=env, capture_output=True,
+                              text=True, timeout=600)
+        assert done.returncode == 0, done.stderr
+        runs.append(done.stdout.split())
+    cold, warm = runs
+    assert len(cold) == 2 and cold == warm

@@ -3,8 +3,12 @@
 All numba options live here, in one place: every kernel is compiled with
 :data:`JIT_OPTIONS` so the command line reuses numba's on-disk cache instead
 of recompiling on every run.  ``fastmath`` is limited to the flags that let
-LLVM vectorise sums and fuse multiply-adds (reassociation, contraction, no
-signed zeros, reciprocal approximation is *not* enabled); NaN and infinity
+LLVM vectorise sums (reassociation, no signed zeros; reciprocal approximation
+is *not* enabled).  Contraction (fusing a multiply and an add where the
+compiler sees fit) is left out: a kernel loaded from the cache then rounded
+differently from the same kernel compiled in the process, so a result
+depended on the cache; the hot polynomial fuses explicitly
+(:func:`polind.kernels.fastexp.fma`).  NaN and infinity
 keep their IEEE meaning, because inputs are validated before they reach a
 kernel and a NaN that appears anyway must stay visible.
 """
@@ -18,7 +22,7 @@ from polind.kernels import cache as _cache
 # Before any kernel is compiled: cached kernels keyed by every kernel source (kernels.cache).
 _cache.install()
 
-FASTMATH = frozenset({"reassoc", "contract", "nsz"})
+FASTMATH = frozenset({"reassoc", "nsz"})
 JIT_OPTIONS = {"cache": True, "nogil": True, "fastmath": set(FASTMATH), "error_model": "numpy"}
 
 
