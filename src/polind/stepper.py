@@ -273,19 +273,16 @@ class Stepper:
         try:
             if normal_load is None:
                 return by(self._buffer, t, motion, self._load)
-            return by(self._buffer, t, motion, self._load_for(normal_load, t, x, v))
+            try:
+                load = self._check_load(normal_load)
+            except InputError:
+                self._motion(t, x, v)   # a bad time or motion beside a bad load is named first
+                raise
+            return by(self._buffer, t, motion, load)
         except RefusedSample:
             pass
         self._motion(t, x, v)           # raises the InputError of the refused sample
         raise AssertionError("Stepper.advance: a refused sample without an InputError")
-
-    def _load_for(self, normal_load, t, x, v):
-        """The checked ``normal_load``; a bad time or motion beside a bad load is named first."""
-        try:
-            return self._check_load(normal_load)
-        except InputError:
-            self._motion(t, x, v)
-            raise
 
     def _checked_motion(self, t, x, v):
         """The one motion value given (``x`` or ``v``) as a float, after the time's own check."""
@@ -580,20 +577,16 @@ class Body:
         try:
             if normal_load is None:
                 return self._advance(self._buffer, self._own_load, applied_force)
-            return self._advance(self._buffer, self._load_for(normal_load, applied_force),
-                                 applied_force)
+            try:
+                load = self._check_load(normal_load)
+            except InputError:
+                if not -_INF < applied_force < _INF:    # named first, beside a bad load
+                    raise self._refusal(applied_force) from None
+                raise
+            return self._advance(self._buffer, load, applied_force)
         except RefusedSample:
             pass
         raise self._refusal(applied_force)
-
-    def _load_for(self, normal_load, applied_force):
-        """The checked ``normal_load``; a non-finite force beside a bad load is named first."""
-        try:
-            return self._check_load(normal_load)
-        except InputError:
-            if not -_INF < applied_force < _INF:
-                raise self._refusal(applied_force) from None
-            raise
 
     def _refusal(self, applied_force):
         """The InputError of a step the compiled step refused: the force's, or a lost step's."""
