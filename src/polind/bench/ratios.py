@@ -260,7 +260,8 @@ def gms_simulate_ratio(model, gms, samples=50_000, rounds=3):
     return _simulate_ratio(model, reference, samples, rounds)
 
 
-def varying_load_ratios(samples=100_000, calls=10_000, body_steps=3_000, rounds=3):
+def varying_load_ratios(samples=100_000, calls=10_000, body_steps=3_000, rounds=3,
+                        user_rounds=15):
     """The default Pol-Ind model under ``100 N (0.75 + 0.25 sin)`` vs its constant 100 N.
 
     Per-sample cost ratio (varying / constant) in ``simulate`` (the benchmark
@@ -268,7 +269,9 @@ def varying_load_ratios(samples=100_000, calls=10_000, body_steps=3_000, rounds=
     :class:`polind.Body` (pushed by ``20 N sin(2 pi 2 t)`` at 1 kHz: it sticks
     and slips).  The load changes at every sample, so every sample re-solves
     the separation and re-evaluates the element table
-    (:ref:`guide-pol-ind-varying-load`).
+    (:ref:`guide-pol-ind-varying-load`).  ``simulate`` is timed ``rounds``
+    times, the Stepper and the Body ``user_rounds`` times (they are short),
+    each pass with a Stepper or Body of its own built before the timing.
     Returns ``{"simulate" | "Stepper" | "Body": (ratio, detail)}``.
     """
     from polind.simulation import simulate
@@ -291,17 +294,19 @@ def varying_load_ratios(samples=100_000, calls=10_000, body_steps=3_000, rounds=
     times, positions = path.t[1:calls + 1].tolist(), path.x[1:calls + 1].tolist()
     step_loads = loads[1:calls + 1].tolist()
 
+    steppers = [Stepper(model) for _ in range(2 * (user_rounds + 1))]
+
     def stepper_constant():
-        advance = Stepper(model).advance
+        advance = steppers.pop().advance
         for t, x, _ in zip(times, positions, step_loads):
             advance(t, x=x)
 
     def stepper_varying():
-        advance = Stepper(model).advance
+        advance = steppers.pop().advance
         for t, x, load in zip(times, positions, step_loads):
             advance(t, x=x, normal_load=load)
 
-    constant, varying = _interleaved([stepper_constant, stepper_varying], rounds)
+    constant, varying = _interleaved([stepper_constant, stepper_varying], user_rounds)
     out["Stepper"] = (varying / constant, f"{varying / calls * 1e9:.0f} ns vs "
                                           f"{constant / calls * 1e9:.0f} ns per call")
 
@@ -309,17 +314,19 @@ def varying_load_ratios(samples=100_000, calls=10_000, body_steps=3_000, rounds=
     pushes = (20.0 * np.sin(2.0 * np.pi * 2.0 * body_times)).tolist()
     body_loads = load_at(body_times).tolist()
 
+    bodies = [Body(model, time_step=1e-3) for _ in range(2 * (user_rounds + 1))]
+
     def body_constant():
-        step = Body(model, time_step=1e-3).step
+        step = bodies.pop().step
         for push, _ in zip(pushes, body_loads):
             step(push)
 
     def body_varying():
-        step = Body(model, time_step=1e-3).step
+        step = bodies.pop().step
         for push, load in zip(pushes, body_loads):
             step(push, normal_load=load)
 
-    constant, varying = _interleaved([body_constant, body_varying], rounds)
+    constant, varying = _interleaved([body_constant, body_varying], user_rounds)
     out["Body"] = (varying / constant, f"{varying / body_steps * 1e6:.1f} µs vs "
                                        f"{constant / body_steps * 1e6:.1f} µs per step")
     return out
