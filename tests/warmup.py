@@ -75,24 +75,32 @@ def _pol_ind(**changes):
     return polind.model_from_dict({"model": table})
 
 
+def _all_pol_ind():
+    _runs(_pol_ind(), load=100.0)
+    _runs(_pol_ind(**{"discretisation.summation": "direct"}), load=100.0)
+    _runs(_pol_ind(**{"materials.hardness": 2e9}), load=100.0)
+    _mounted(_pol_ind())
+
+
+def _family(classes):
+    for cls in classes:
+        _runs(cls.example())
+        _mounted(cls.example())
+
+
 def jobs() -> list:
-    """``[(name, function)]``, the longest compilations first."""
+    """``[(name, function)]``: one job per kernel family (the models that share compiled
+    runners), so that no two workers compile the same kernel; the longest first."""
     from polind.models import MODEL_TYPES
 
-    out = [
-        ("pol-ind", lambda: _runs(_pol_ind(), load=100.0)),
-        ("pol-ind direct", lambda: _runs(_pol_ind(**{"discretisation.summation": "direct"}),
-                                         load=100.0)),
-        ("pol-ind plastic", lambda: _runs(_pol_ind(**{"materials.hardness": 2e9}),
-                                          load=100.0)),
-        ("pol-ind mounted", lambda: _mounted(_pol_ind())),
-    ]
+    families = {}
     for name, cls in MODEL_TYPES.items():
-        if cls.has_contact:
-            continue
-        out.append((name, lambda cls=cls: _runs(cls.example())))
-        out.append((f"{name} mounted", lambda cls=cls: _mounted(cls.example())))
-    return out
+        if not cls.has_contact:
+            runners = cls.example().step_functions().runners or name
+            families.setdefault(runners, []).append(cls)
+    return [("pol-ind", _all_pol_ind)] + [
+        (runners, lambda classes=classes: _family(classes))
+        for runners, classes in families.items()]
 
 
 def share(folder: Path, timeout: float = 1800.0) -> None:
