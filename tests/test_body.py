@@ -165,3 +165,38 @@ def test_a_body_batch_refuses_bad_input():
         batch.step("abc")
     assert batch.time == 0.0                     # nothing was stepped
     assert batch.step([1.0, 2.0, 3.0])[2].shape == (3,)
+
+
+@pytest.mark.parametrize("name", ["pol-ind", "compliance"])
+def test_a_refused_step_changes_nothing(name):
+    """A non-finite force, or a bad load beside it, is named and leaves the body as it was."""
+    model = MODELS[name]
+    forces = _pushes(200)
+    expected = _run(polind.Body(model, time_step=1e-3), forces)
+    body = polind.Body(model, time_step=1e-3)
+    head = _run(body, forces[:100])
+    for bad, load in [(float("inf"), None), (float("nan"), None), (float("-inf"), -1.0)]:
+        with pytest.raises(polind.InputError, match="'applied_force' of Body.step must be "
+                                                    "finite"):
+            body.step(bad, normal_load=load)
+    with pytest.raises(polind.InputError, match="'normal_load'"):
+        body.step(1.0, normal_load=-1.0)
+    np.testing.assert_array_equal(np.vstack([head, _run(body, forces[100:])]), expected)
+
+
+def test_a_step_lost_later_in_the_time_is_refused_there_and_changes_nothing():
+    """The first steps from t = 1024 - 1e-7 s are 1e-7 s long; once past 1024 s they are not."""
+    model = MODELS["lugre"]
+    state = model.initial_state()
+    state.time = 1024.0 - 1e-7
+    body = polind.Body(model, time_step=1e-7, state=state)
+    body.step(2.0)
+    body.step(2.0)
+    before = (body.time, body.position, body.velocity, body.friction)
+    with pytest.raises(polind.InputError, match="'time_step' of Body .* is lost in its time"):
+        body.step(2.0)
+    assert (body.time, body.position, body.velocity, body.friction) == before
+    step, arguments = body.compiled()        # from numba the lost step is NaNs, nothing changed
+    out = np.empty((1, 3))
+    _users_loop(step, arguments, np.array([2.0]), out)
+    assert np.isnan(out).all() and body.position == before[1]

@@ -275,3 +275,40 @@ def test_a_users_own_njit_loop_advances_the_model(model_type):
     model.unflatten_state(kernel.state, state)
     for key, value in res.final_state.variables.items():
         np.testing.assert_allclose(state.variables[key], value, rtol=1e-12, atol=1e-12 * scale)
+
+
+@pytest.mark.parametrize("model_type", ["lugre", "pol-ind", "compliance"])
+def test_a_refused_sample_changes_nothing(model_type):
+    """Each bad sample is named; the stepper then goes on as if it had never been given."""
+    inner = ALL["lugre"] if model_type == "compliance" else ALL[model_type]
+    if model_type == "compliance":
+        inner = {**inner, "compliance": {"stiffness": 2e5}}
+    model = lib(inner)
+    t = np.arange(0.0, 0.2, 1e-3)
+    x = 2e-6 * np.sin(2.0 * np.pi * 5.0 * t)
+    expected = _stepper_forces(polind.Stepper(model), t, x=x)
+    stepper = polind.Stepper(model)
+    forces = [stepper.force]
+    for k in range(1, t.shape[0]):
+        if k % 20 == 0:
+            for bad in ({"t": float(t[k - 1]), "x": float(x[k])},
+                        {"t": float(t[k]), "x": float("inf")},
+                        {"t": float(t[k]), "v": float("nan")},
+                        {"t": float(t[k]), "x": 1e308},
+                        {"t": float(t[k]), "x": float(x[k]), "normal_load": -1.0}):
+                with pytest.raises(polind.InputError):
+                    stepper.advance(**bad)
+        forces.append(stepper.advance(float(t[k]), x=float(x[k])))
+    np.testing.assert_array_equal(forces, expected)
+
+
+@pytest.mark.parametrize("bad, message", [
+    ({"t": 0.0}, "after the current time"),                          # and no motion
+    ({"t": 0.0, "x": "0.1"}, "after the current time"),              # and a motion not a number
+    ({"t": 0.0, "x": 1.0, "normal_load": -1.0}, "after the current time"),
+    ({"t": 1.0, "x": float("nan"), "normal_load": -1.0}, "'x'"),
+])
+def test_the_time_then_the_motion_then_the_load_is_named(bad, message):
+    stepper = polind.Stepper(lib(ALL["pol-ind"]))
+    with pytest.raises(polind.InputError, match=message):
+        stepper.advance(**bad)

@@ -460,6 +460,7 @@ MODULES = (
     ("Compiled kernels", ("polind.kernels.contract", "polind.kernels.template",
                           "polind.kernels.generate", "polind.kernels.mount",
                           "polind.kernels.series", "polind.kernels.dynamics",
+                          "polind.kernels.buffer",
                           "polind.kernels.elements", "polind.kernels.greenwood",
                           "polind.kernels.separation", "polind.kernels.plastic",
                           "polind.kernels.plastic_separation", "polind.kernels.pol_ind",

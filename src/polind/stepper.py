@@ -24,8 +24,13 @@ import math
 import numpy as np
 
 from polind.errors import InputError, describe
-from polind.kernels import compiled_entry
+from polind.kernels.buffer import (BODY, BODY_SIZE, CLOCK, CLOCK_SIZE, FORCE, FORCE_SCALE,
+                                   LAST_LOAD, MASS, MEMORYLESS, METHOD, MOUNT, POSITION,
+                                   REST_CAPACITY, TIME, VELOCITY, RefusedSample, buffer_entry,
+                                   copied, step_buffer)
+from polind.kernels.mount import N_MOUNT
 from polind.models import FrictionModel, State
+from polind.models.kernel import RIGID
 from polind.validation import check_number
 
 __all__ = ["Stepper", "Body"]
@@ -93,6 +98,29 @@ class LoadCheck:
         if not low <= load <= high:
             self.model.check_loads(np.array([load]), self.state)
         return load
+
+
+def _viewing(kernel, buffer, views):
+    """``kernel`` with its arrays the ``views`` of a step buffer, the mount's copied there too."""
+    import dataclasses
+
+    scalars, table, state, scratch = views
+    mount = buffer[MOUNT:MOUNT + N_MOUNT]
+    if kernel.mount is None:
+        mount[:] = RIGID
+    else:
+        mount[:] = kernel.mount
+    twin = dataclasses.replace(kernel, scalars=scalars, table=table, state=state,
+                               mount=None if kernel.mount is None else mount)
+    twin.scratch = scratch
+    return twin
+
+
+def _buffered(kernel):
+    """``(buffer, kernel)``: a step buffer with the arrays of ``kernel``, and ``kernel`` on it."""
+    buffer, views = step_buffer(kernel.scalars, kernel.table, kernel.state,
+                                kernel.scratch.shape[0])
+    return buffer, _viewing(kernel, buffer, views)
 
 
 def _state_of(model, template, flat, time, position, velocity, force):
@@ -165,41 +193,42 @@ class Stepper:
                                      f"state is given. Got {given!r} instead.")
         self._model = model
         self._template = start
-        kernel = model.step_kernel(start, varying_load=True)
-        self._kernel = kernel
-        # A mounted contact (series spring, load scaling) runs one-sample paths; the
-        # bare one its compiled step for these arrays and floats, called without
-        # numba's per-call type dispatch (advance passes exactly these types).
-        self._path = None if kernel.mount is None else np.zeros((6, 2))
-        self._step = None if self._path is not None else compiled_entry(
-            kernel.step, kernel.scalars, kernel.table, kernel.state, 1.0, 1.0, 1.0, 1.0,
-            float(kernel.normal_load))
-        self._path_load = kernel.normal_load
-        self._scalars, self._table, self._flat = kernel.scalars, kernel.table, kernel.state
-        self._load = kernel.normal_load
+        # The kernel's arrays and the current sample in one buffer (polind.kernels.buffer):
+        # a sample crosses into numba as that buffer and three floats.
+        self._buffer, self._kernel = _buffered(model.step_kernel(start, varying_load=True))
+        kernel = self._kernel
+        self._load = float(kernel.normal_load)
         self._check_load = LoadCheck(model, start, "Stepper")
-        if state is not None:
-            self._time, self._position = state.time, state.position
-            self._velocity, self._force = state.velocity, state.force
+        if kernel.mount is None:
+            self._by_position = buffer_entry(kernel.runners.stepper_position, 3)
+            self._by_velocity = None        # compiled (or loaded) at the first sample by velocity
         else:
-            self._time, self._position, self._velocity = time, position, velocity
-            self._force = kernel.first_force(self._velocity)
+            # A mounted contact (series spring, load scaling) runs one-sample paths.
+            self._path = np.zeros((6, 2))
+            self._path_load = kernel.normal_load
+            self._by_position = self._mounted_position
+            self._by_velocity = self._mounted_velocity
+        sample = self._buffer[TIME:FORCE + 1]
+        if state is not None:
+            sample[:] = state.time, state.position, state.velocity, state.force
+        else:
+            sample[:] = time, position, velocity, kernel.first_force(velocity)
 
     @property
     def force(self) -> float:
-        return self._force
+        return float(self._buffer[FORCE])
 
     @property
     def time(self) -> float:
-        return self._time
+        return float(self._buffer[TIME])
 
     @property
     def position(self) -> float:
-        return self._position
+        return float(self._buffer[POSITION])
 
     @property
     def velocity(self) -> float:
-        return self._velocity
+        return float(self._buffer[VELOCITY])
 
     @property
     def kernel(self):
@@ -208,8 +237,8 @@ class Stepper:
 
     @property
     def state(self) -> State:
-        return _state_of(self._model, self._template, self._flat, self._time, self._position,
-                         self._velocity, self._force)
+        return _state_of(self._model, self._template, self._kernel.state, self.time,
+                         self.position, self.velocity, self.force)
 
     def advance(self, t, x=None, v=None, normal_load=None) -> float:
         """Advance to the sample at time ``t`` [s]; return the friction force there [N].
@@ -225,57 +254,97 @@ class Stepper:
             The normal load [N] at ``t`` (models that use it; default: the
             model's own).
         """
-        # Fast path: plain floats, checked with comparisons only.
+        # Fast path: plain floats, checked by type here and by comparisons in the compiled
+        # sample (polind.kernels.buffer.stepper_sample), which refuses a bad one.
         if type(t) is not float:
             t = check_number("Stepper.advance", "t", t)
-        step = t - self._time
-        if not 0.0 < step < _INF:
-            raise InputError(f"The 't' of Stepper.advance must be finite and after the current "
-                             f"time {self._time!r}. Got {t!r} instead.")
+        if v is None:
+            if type(x) is not float:
+                x = self._checked_motion(t, x, v)
+            by = self._by_position
+            motion = x
+        else:
+            if x is not None or type(v) is not float:
+                v = self._checked_motion(t, x, v)
+            by = self._by_velocity
+            if by is None:
+                by = self._by_velocity = buffer_entry(self._kernel.runners.stepper_velocity, 3)
+            motion = v
+        try:
+            if normal_load is None:
+                return by(self._buffer, t, motion, self._load)
+            try:
+                load = self._check_load(normal_load)
+            except InputError:
+                self._motion(t, x, v)   # a bad time or motion beside a bad load is named first
+                raise
+            return by(self._buffer, t, motion, load)
+        except RefusedSample:
+            pass
+        self._motion(t, x, v)           # raises the InputError of the refused sample
+        raise AssertionError("Stepper.advance: a refused sample without an InputError")
+
+    def _checked_motion(self, t, x, v):
+        """The one motion value given (``x`` or ``v``) as a float, after the time's own check."""
+        self._step_to(t)
         if v is None:
             if x is None:
                 raise InputError("Give Stepper.advance exactly one of 'x' and 'v'. Got neither.")
-            if type(x) is not float:
-                x = check_number("Stepper.advance", "x", x)
-            displacement = x - self._position
+            return check_number("Stepper.advance", "x", x)
+        if x is not None:
+            raise InputError("Give Stepper.advance exactly one of 'x' and 'v'. Got both.")
+        return check_number("Stepper.advance", "v", v)
+
+    def _step_to(self, t):
+        """The step from the current time to ``t``; an InputError if ``t`` is not after it."""
+        time = float(self._buffer[TIME])
+        step = t - time
+        if not 0.0 < step < _INF:
+            raise InputError(f"The 't' of Stepper.advance must be finite and after the current "
+                             f"time {time!r}. Got {t!r} instead.")
+        return step
+
+    def _motion(self, t, x, v):
+        """``(step, displacement, step_velocity, sample_velocity, position)`` of a sample.
+
+        :meth:`advance`'s rules in its arithmetic (the compiled sample's,
+        :func:`polind.kernels.buffer.stepper_sample`); an InputError for a
+        sample it refuses.
+        """
+        step = self._step_to(t)
+        position = float(self._buffer[POSITION])
+        if v is None:
+            displacement = x - position
             step_velocity = displacement / step
             if step_velocity - step_velocity != 0.0:      # inf or nan
                 raise InputError(f"The 'x' of Stepper.advance must be finite, with a finite step "
                                  f"velocity. Got x = {x!r} at t = {t!r}.")
-            sample_velocity = step_velocity
-            position = x
-        else:
-            if x is not None:
-                raise InputError("Give Stepper.advance exactly one of 'x' and 'v'. Got both.")
-            if type(v) is not float:
-                v = check_number("Stepper.advance", "v", v)
-            step_velocity = 0.5 * (self._velocity + v)
-            displacement = step_velocity * step
-            position = self._position + displacement
-            if position - position != 0.0:                # inf or nan
-                raise InputError(f"The 'v' of Stepper.advance must be finite, with a finite "
-                                 f"position. Got v = {v!r} at t = {t!r}.")
-            sample_velocity = v
-        load = self._load if normal_load is None else self._check_load(normal_load)
-        if self._path is None:
-            force = self._step(self._scalars, self._table, self._flat, step, displacement,
-                               step_velocity, sample_velocity, load)
-        else:
-            force = self._mounted_step(step, displacement, step_velocity, sample_velocity, load)
-        self._time, self._position, self._velocity, self._force = t, position, \
-            sample_velocity, force
-        return force
+            return step, displacement, step_velocity, step_velocity, x
+        step_velocity = 0.5 * (float(self._buffer[VELOCITY]) + v)
+        displacement = step_velocity * step
+        position = position + displacement
+        if position - position != 0.0:                # inf or nan
+            raise InputError(f"The 'v' of Stepper.advance must be finite, with a finite "
+                             f"position. Got v = {v!r} at t = {t!r}.")
+        return step, displacement, step_velocity, v, position
 
+    def _mounted_position(self, buffer, t, x, load):
+        return self._mounted_sample(t, x, None, load)
 
-    def _mounted_step(self, step, displacement, step_velocity, sample_velocity, load):
-        """One step of a mounted contact (:func:`polind.kernels.series.mounted_sample`)."""
+    def _mounted_velocity(self, buffer, t, v, load):
+        return self._mounted_sample(t, None, v, load)
+
+    def _mounted_sample(self, t, x, v, load):
+        """One sample of a mounted contact (:func:`polind.kernels.series.mounted_sample`)."""
         from polind.kernels.series import mounted_sample
 
+        step, displacement, step_velocity, sample_velocity, position = self._motion(t, x, v)
         kernel = self._kernel
         force = mounted_sample(kernel.runners, kernel.mount, kernel.scalars, kernel.table,
                                kernel.state, kernel.scratch, self._path, step, displacement,
                                step_velocity, sample_velocity, self._path_load, load)
         self._path_load = load
+        self._buffer[TIME:FORCE + 1] = t, position, sample_velocity, force
         return force
 
 
@@ -345,10 +414,12 @@ class Body:
         position = check_number("Body", "position", 0.0 if position is None else position)
         velocity = check_number("Body", "velocity", 0.0 if velocity is None else velocity)
         start = start_state(model, state, "Body")
-        kernel = model.step_kernel(start, varying_load=True)
+        # The kernel's arrays, the body's and its numbers in one buffer (polind.kernels.buffer):
+        # a step crosses into numba as that buffer and two floats.
+        self._attach(*_buffered(model.step_kernel(start, varying_load=True)))
+        kernel = self._kernel
         self._model = model
         self._template = start
-        self._kernel = kernel
         self._mass = mass
         self._time_step = time_step
         self._method = METHODS[method]
@@ -360,9 +431,9 @@ class Body:
             self._last_load = kernel.normal_load
             friction = initial_friction(kernel, velocity, 0.0)
             # [x_n, v_n, v_{n-1}, w_n, history, friction]: what the next step needs.
-            self._body = np.array([position, velocity, velocity, velocity, 0.0, friction])
+            self._body[:] = position, velocity, velocity, velocity, 0.0, friction
             # [t_0, n, h]: the current time is t_0 + n h (polind.kernels.dynamics.clock_step).
-            self._clock = np.array([start_time, 0.0, time_step])
+            self._clock[:] = start_time, 0.0, time_step
         else:
             self._restore(history, time_step, start_time)
         step = (self._clock[0] + time_step) - self._clock[0]
@@ -373,35 +444,57 @@ class Body:
     def _restore(self, history, time_step, start_time):
         """Continue the body whose ``state`` carried ``history`` (:func:`carried_history`)."""
         kernel = self._kernel
-        self._body = np.array([history[1], history[2], history[4], history[5], history[6],
-                               history[3]])
+        self._body[:] = history[1], history[2], history[4], history[5], history[6], history[3]
         self._last_load = float(history[7])
         if self._last_load != kernel.normal_load:
             # The kernel arrays at the load the model was last brought to (the state is there).
             kernel.force(kernel.scalars, kernel.table, kernel.state.copy(), float(history[2]),
                          self._last_load)
         if history[10] == time_step:
-            self._clock = np.array([history[8], history[9], time_step])
+            self._clock[:] = history[8], history[9], time_step
         else:
-            self._clock = np.array([start_time, 0.0, time_step])
+            self._clock[:] = start_time, 0.0, time_step
         if kernel.mount is not None and history.shape[0] == len(HISTORY) + 3:
             kernel.mount[_MOUNT_WORK] = history[len(HISTORY):]
 
-    def _bind(self):
-        """The compiled step and its arguments, bound once (``step`` passes these types)."""
-        from polind.models.kernel import RIGID
+    def _attach(self, buffer, kernel):
+        """Take ``buffer`` and ``kernel`` (its arrays views into it, :func:`_buffered`)."""
+        self._buffer = buffer
+        self._kernel = kernel
+        self._body = buffer[BODY:BODY + BODY_SIZE]
+        self._clock = buffer[CLOCK:CLOCK + CLOCK_SIZE]
+        # The mount, or the rigid one of a contact with nothing around it (which nothing
+        # writes: polind.models.kernel.RIGID's values).
+        self._mount = buffer[MOUNT:MOUNT + N_MOUNT]
 
+    @property
+    def _last_load(self):
+        """The normal load the model was last brought to [N] (its kernel arrays are at it)."""
+        return float(self._buffer[LAST_LOAD])
+
+    @_last_load.setter
+    def _last_load(self, load):
+        self._buffer[LAST_LOAD] = load
+
+    def _bind(self):
+        """The body's numbers into its buffer, and the compiled step that takes the buffer."""
         kernel = self._kernel
         runners = kernel.runners
         mounted = kernel.mount is not None
+        buffer = self._buffer
+        buffer[MEMORYLESS] = 1.0 if self._memoryless else 0.0
+        buffer[REST_CAPACITY] = self._rest_capacity
+        buffer[FORCE_SCALE] = float(kernel.force_scale)
+        buffer[METHOD] = self._method
+        buffer[MASS] = self._mass
+        self._own_load = float(kernel.normal_load)
+        self._advance = buffer_entry(
+            runners.mounted_body_buffer if mounted else runners.body_buffer, 2)
+        # compiled(): the runner that takes the arrays one by one (views of the buffer).
+        self._function = runners.mounted_body_advance if mounted else runners.body_advance
         self._arguments = (self._memoryless, self._rest_capacity, float(kernel.force_scale),
-                           kernel.mount if mounted else RIGID, kernel.scalars, kernel.table,
-                           kernel.state, kernel.scratch, self._method, self._mass, self._clock,
-                           self._body)
-        function = runners.mounted_body_advance if mounted else runners.body_advance
-        self._function = function
-        self._advance = compiled_entry(function, *self._arguments, float(kernel.normal_load),
-                                       0.0)
+                           self._mount, kernel.scalars, kernel.table, kernel.state,
+                           kernel.scratch, self._method, self._mass, self._clock, self._body)
 
     def _time_at(self, steps):
         return self._clock[0] + steps * self._time_step
@@ -443,16 +536,10 @@ class Body:
 
     def copy(self) -> "Body":
         """An independent body at the same sample (its arrays copied): for rollouts."""
-        import dataclasses
-
         twin = object.__new__(Body)
         twin.__dict__.update(self.__dict__)
-        kernel = self._kernel
-        twin._kernel = dataclasses.replace(
-            kernel, scalars=kernel.scalars.copy(), table=kernel.table.copy(),
-            state=kernel.state.copy(), mount=None if kernel.mount is None else kernel.mount.copy())
-        twin._body = self._body.copy()
-        twin._clock = self._clock.copy()
+        buffer, views = copied(self._buffer)
+        twin._attach(buffer, _viewing(self._kernel, buffer, views))
         twin._check_load = LoadCheck(self._model, self._template, "Body")
         twin._bind()
         return twin
@@ -484,30 +571,31 @@ class Body:
         """
         if type(applied_force) is not float:
             applied_force = check_number("Body.step", "applied_force", applied_force)
-        elif not -_INF < applied_force < _INF:
-            raise InputError(f"The 'applied_force' of Body.step must be finite. "
-                             f"Got {applied_force!r} instead.")
-        if normal_load is None:
-            load = self._kernel.normal_load
-        else:
-            load = self._check_load(normal_load)
-        if load != self._last_load:
-            # Bring the model to the new load on its real state first (the model's
-            # force function does that): the solver's trials run on a copy.
-            kernel = self._kernel
-            kernel.force(kernel.scalars, kernel.table, kernel.state, float(self._body[1]), load)
-            self._last_load = load
-        x, v, friction = self._advance(*self._arguments, load, applied_force)
-        if x != x and self._lost():
-            steps = self._clock[1]
-            raise _lost_step(self._time_at(steps), self._time_step,
-                             self._time_at(steps + 1) - self._time_at(steps))
-        return x, v, friction
+        # The compiled step (polind.kernels.buffer.body_sample) refuses a non-finite force
+        # or a lost step; a new load is brought to the model's real state first there (the
+        # model's force function does that): the solver's trials run on a copy.
+        try:
+            if normal_load is None:
+                return self._advance(self._buffer, self._own_load, applied_force)
+            try:
+                load = self._check_load(normal_load)
+            except InputError:
+                if not -_INF < applied_force < _INF:    # named first, beside a bad load
+                    raise self._refusal(applied_force) from None
+                raise
+            return self._advance(self._buffer, load, applied_force)
+        except RefusedSample:
+            pass
+        raise self._refusal(applied_force)
 
-    def _lost(self):
+    def _refusal(self, applied_force):
+        """The InputError of a step the compiled step refused: the force's, or a lost step's."""
+        if not -_INF < applied_force < _INF:
+            return InputError(f"The 'applied_force' of Body.step must be finite. "
+                              f"Got {applied_force!r} instead.")
         steps = self._clock[1]
-        step = self._time_at(steps + 1) - self._time_at(steps)
-        return not abs(step - self._time_step) <= _STEP_TOLERANCE * self._time_step
+        return _lost_step(self._time_at(steps), self._time_step,
+                          self._time_at(steps + 1) - self._time_at(steps))
 
 
 #: The variable ``"body"`` of :attr:`Body.state`, in this order (then, behind a series

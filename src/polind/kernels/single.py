@@ -17,7 +17,8 @@ from polind.kernels.contract import block_views, cut_sample
 from polind.kernels.elements import (element_sum, elastic_stiffness, maxwell_slip_elements,
                                      maxwell_slip_trial)
 from polind.kernels.fastexp import decay_exp
-from polind.kernels.stribeck import power_ratio, sign, stribeck_curve, stribeck_level
+from polind.kernels.stribeck import (exact_exp, power_ratio, sign, stribeck_curve,
+                                     stribeck_level)
 
 
 @jit(inline="always")
@@ -140,7 +141,7 @@ def lugre_step(scalars, table, state, step, displacement, step_velocity, sample_
     stiffness = scalars[LUGRE_STIFFNESS]
     steady, rate = lugre_relaxation(stiffness, step_velocity, _lugre_curve(scalars, step_velocity))
     if step_velocity != 0.0:
-        z = steady + (z - steady) * math.exp(-rate * step)
+        z = steady + (z - steady) * exact_exp(-rate * step)
         state[0] = z
     if sample_velocity != step_velocity:   # with x given they are equal: one curve, not two
         return _lugre_force_at(scalars, z, sample_velocity)

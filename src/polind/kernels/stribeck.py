@@ -16,10 +16,19 @@ RATIONAL = 1
 SHAPE_CODES = {"exponential": EXPONENTIAL, "rational": RATIONAL}
 
 
+#: Below this ``exp`` is exactly 0.0 (``exp(-745.14)`` is below half the least subnormal).
+EXP_ZERO = -746.0
+
+
 @jit(inline="always")
 def exact_exp(x):
-    """``math.exp``, as a function a template can take (:func:`stribeck_level`)."""
-    return math.exp(x)
+    """``math.exp``, as a function a template can take (:func:`stribeck_level`).
+
+    0.0 below :data:`EXP_ZERO` without calling libm: the same value, but
+    libm reports that underflow through ``errno`` (about 0.1 µs), and a
+    Stribeck curve far above its Stribeck velocity underflows at every step.
+    """
+    return 0.0 if x < EXP_ZERO else math.exp(x)
 
 
 @jit(inline="always")

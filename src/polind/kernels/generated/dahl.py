@@ -10,6 +10,7 @@ from polind.kernels.single import dahl_step as model_step
 from polind.kernels.single import dahl_force as model_force
 from polind.kernels.single import dahl_tangent as model_tangent
 from polind.kernels.single import dahl_step as model_settled
+from polind.kernels.buffer import body_sample, stepper_sample  # noqa: E402
 from polind.kernels.contract import VALID, no_blocks, run_motion, run_steps  # noqa: E402
 from polind.kernels.dynamics import (advance_body_with, bare_commit, bare_trial,  # noqa: E402
                                      body_advance_with, body_batch_with,
@@ -84,6 +85,20 @@ if model_blocks is no_blocks:
     motion = motion_samples  # noqa: F811
 
 
+# The one-sample runners of Stepper and Body take one buffer (polind.kernels.buffer) and a
+# few floats, and keep the GIL: a call of a microsecond gains nothing by releasing it.
+@jit(fastmath=False, nogil=False)
+def stepper_position(buffer, t, x, normal_load):
+    """A :class:`polind.Stepper` sample at position ``x`` (:mod:`polind.kernels.buffer`)."""
+    return stepper_sample(model_step, buffer, t, x, False, normal_load)
+
+
+@jit(fastmath=False, nogil=False)
+def stepper_velocity(buffer, t, v, normal_load):
+    """A :class:`polind.Stepper` sample at velocity ``v`` (:mod:`polind.kernels.buffer`)."""
+    return stepper_sample(model_step, buffer, t, v, True, normal_load)
+
+
 @jit
 def trial(memoryless, mount, scalars, table, state, scratch, velocity, step, sample_slope,
           sample_offset, normal_load):
@@ -139,6 +154,12 @@ def body_batch(memoryless, rest_capacity, force_scale, mounts, scalars, table, s
     return body_batch_with(body_step, memoryless, rest_capacity, force_scale, mounts, scalars,
                            table, states, scratch, method, masses, clock, bodies,
                            applied_forces, normal_load, out)
+
+
+@jit(nogil=False)
+def body_buffer(buffer, normal_load, applied_force):
+    """:func:`body_advance` on a :class:`polind.Body`'s buffer (:mod:`polind.kernels.buffer`)."""
+    return body_sample(body_step, model_force, buffer, normal_load, applied_force)
 
 
 @jit
@@ -222,3 +243,9 @@ def mounted_body_batch(memoryless, rest_capacity, force_scale, mounts, scalars, 
     return body_batch_with(mounted_body_step, memoryless, rest_capacity, force_scale, mounts,
                            scalars, table, states, scratch, method, masses, clock, bodies,
                            applied_forces, normal_load, out)
+
+
+@jit(nogil=False)
+def mounted_body_buffer(buffer, normal_load, applied_force):
+    """:func:`body_buffer` of the mounted contact."""
+    return body_sample(mounted_body_step, model_force, buffer, normal_load, applied_force)
