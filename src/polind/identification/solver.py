@@ -15,6 +15,12 @@ variable, a factor e of a log-scaled parameter, moves the force by less than
 :data:`STILL_COLUMN` of the measured force's norm) cannot move the residual
 there: it is fixed at that start and not iterated on, and the result reports
 it as not identifiable.
+
+A start stops when an iteration lowers the sum of squares by less than
+:data:`NOISE_SHARE` of the noise variance ``s^2 = RSS / (n - p)`` (the
+solver's ``ftol`` is at least ``NOISE_SHARE / (n - p)``): what is left to gain
+is below anything the data can tell apart, and on a long record the default
+``tolerance`` alone would iterate on it.
 """
 
 from __future__ import annotations
@@ -37,7 +43,7 @@ from polind.identification.starts import DEFAULT_SPREAD_STARTS, check_starts, st
 from polind.resources import check_memory
 from polind.validation import check_number, describe
 
-__all__ = ["STILL_COLUMN", "identify"]
+__all__ = ["NOISE_SHARE", "STILL_COLUMN", "identify"]
 
 #: A simulation of the data shorter than this [s] runs the Jacobian on one thread by
 #: default: the threads' overhead, and their contention with the BLAS's own threads
@@ -46,6 +52,10 @@ _THREADED_SIMULATION = 5e-3
 #: A Jacobian column whose norm is at most this share of the measured force's norm is
 #: zero: its free value cannot move the residual (it is fixed at its start).
 STILL_COLUMN = 1e-8
+#: A start stops when an iteration lowers the sum of squares by less than this share of
+#: the noise variance ``RSS / (n - p)``: a free value moves then by about a tenth of its
+#: standard error at most.
+NOISE_SHARE = 1e-2
 
 
 def _worker_count(workers, columns: int, seconds: float) -> int:
@@ -199,6 +209,13 @@ class _Problem:
         return _LocalFit(label, u, float(residual @ residual), full, iterations, success,
                          message, fixed)
 
+    def cost_tolerance(self, varied: int) -> float:
+        """The solver's ``ftol`` with ``varied`` values varied: the ``tolerance``, or a
+        change of the sum of squares by :data:`NOISE_SHARE` of the noise variance
+        (``ftol`` is relative to the sum of squares, ``(n - p)`` noise variances)."""
+        return max(self.settings.tolerance,
+                   NOISE_SHARE / max(self.measured.size - varied, 1))
+
     def _solve_active(self, u0, base, active, first):
         """``least_squares`` over the variables ``active`` from ``u0`` (residual ``base``;
         ``first``: the Jacobian's active columns there, or None).  Returns ``(u, residual,
@@ -235,7 +252,8 @@ class _Problem:
         solution = least_squares(residuals, x0, jac=jacobian,
                                  bounds=(self.low[active] + 1.0, self.high[active] + 1.0),
                                  method="trf", x_scale=settings.x_scale,
-                                 ftol=settings.tolerance, xtol=settings.tolerance,
+                                 ftol=self.cost_tolerance(active.size),
+                                 xtol=settings.tolerance,
                                  gtol=settings.tolerance, max_nfev=settings.max_evaluations)
         return (unpack(solution.x), solution.fun, solution.jac, int(solution.njev or 0),
                 solution.status > 0, str(solution.message))
@@ -372,7 +390,11 @@ def identify(model, data, *, free=None, bounds=None, holdout=None, starts=None,
         ``100 * number of variables``).
     tolerance : float
         ``ftol`` and ``xtol`` of the solver (relative change of the cost and
-        of the variables).
+        of the variables); ``ftol`` is at least ``NOISE_SHARE / (n - p)``
+        (:data:`polind.identification.NOISE_SHARE`): an iteration
+        that lowers the sum of squares of ``n`` samples with ``p`` free values
+        by less than a hundredth of the noise variance ``RSS / (n - p)`` ends
+        the fit.
     diff_step : float
         Step of the forward-difference Jacobian in the optimiser's variables:
         a log-scaled parameter moves by ``diff_step`` relatively, a linear one
