@@ -191,14 +191,3 @@ def assert_close(got, expected, rel, scale, what=""):
             f"index {i}: got {got.flat[i]!r}, expected {expected.flat[i]!r}, "
             f"|diff| = {err.flat[i]:.3e} > tol {tol.flat[i]:.3e}")
 
-
-def pytest_collection_finish(session):
-    """A worker of a parallel run of the whole suite: share the compilation first (:mod:`warmup`)."""
-    import tempfile
-    from pathlib import Path
-
-    import warmup
-
-    if warmup.wanted(len(session.items)):
-        run = os.environ["PYTEST_XDIST_TESTRUNUID"]
-        warmup.share(Path(tempfile.gettempdir()) / f"polind-warmup-{run}")
