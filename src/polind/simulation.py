@@ -489,7 +489,7 @@ def _advance_in_chunks(model, path, state, load, progress):
     """
     from polind.kernels.contract import VALID
 
-    kernel = model.step_kernel(state, load, fixed_load=load is None)
+    kernel = model.step_kernel(state, load, fixed_load=True)
     n = path.t.shape[0]
     force = np.empty(n)
     fused = kernel.mount is None
