@@ -418,12 +418,16 @@ def inverse_at(position):
     return _estrin(_INVERSE, _COEFFICIENTS * piece, 2.0 * (position - piece) - 1.0)
 
 
-@jit(fastmath=False)
+@jit
 def tail_moments(heights, counts, d):
     """Sums over the summits above ``d`` of ``counts * delta^p``, ``p = 0, 1/2, 1, 3/2``.
 
     ``heights`` is sorted ascending, so the summits in contact are a tail;
-    summing it from its lowest member adds the small terms first.  The one
+    summing it from its lowest member adds the small terms first.  The sums
+    may be reassociated (fast-math ``reassoc``): LLVM then sums in vector
+    lanes, three times faster for a measured map's 1,014 summits, which the
+    separation solver sums at every change of the load; the result moves by
+    rounding only (a few ulp of each sum).  The one
     sum behind every total of a direct surface
     (:class:`polind.contact.surface.DirectSurface`) and of its load in the
     separation solver (:func:`polind.kernels.separation.direct_load_and_slope`).
