@@ -4,8 +4,12 @@
 optimiser's variables of :mod:`polind.identification.parameters`, from each
 starting point of :mod:`polind.identification.starts`; the fit with the
 smallest sum of squares in sample is kept.  The Jacobian is taken by forward
-differences of a fixed step in these variables, its columns simulated side
-by side on threads (the numba kernels release the GIL).  A trial point whose
+differences of a fixed step in these variables.  Where one simulation of the
+data takes long enough for threads to pay (:data:`_THREADED_SIMULATION`),
+the starts run side by side on threads, one start a thread (the numba
+kernels release the GIL); a fit from one start simulates its Jacobian's
+columns side by side instead.  Neither changes a result: each start's fit
+is the same computation on any thread.  A trial point whose
 parameters the model rejects (a load its surface cannot carry, say) or where
 its force is not finite costs a large constant residual, so the solver backs
 off instead of stopping.
@@ -45,9 +49,10 @@ from polind.validation import check_number, describe
 
 __all__ = ["NOISE_SHARE", "STILL_COLUMN", "identify"]
 
-#: A simulation of the data shorter than this [s] runs the Jacobian on one thread by
+#: A simulation of the data shorter than this [s] runs the fit on one thread by
 #: default: the threads' overhead, and their contention with the BLAS's own threads
-#: (which spin between the solver's matrix products), eat the gain.
+#: (which spin between the solver's matrix products) and for the interpreter's lock,
+#: eat the gain.
 _THREADED_SIMULATION = 5e-3
 #: A Jacobian column whose norm is at most this share of the measured force's norm is
 #: zero: its free value cannot move the residual (it is fixed at its start).
@@ -59,7 +64,11 @@ NOISE_SHARE = 1e-2
 
 
 def _worker_count(workers, columns: int, seconds: float) -> int:
-    """Threads for the Jacobian's columns (``seconds``: one simulation of the data)."""
+    """Threads for ``columns`` tasks side by side (``seconds``: one simulation of the data).
+
+    The tasks are a Jacobian's columns or a fit's starts; by default one
+    thread a core, none beside the caller's for quick simulations.
+    """
     if workers is None:
         if seconds < _THREADED_SIMULATION:
             return 1
@@ -115,7 +124,7 @@ class _Problem:
     """The least-squares problem of one model on the fitted samples, solved from any start."""
 
     def __init__(self, start, frees, measured: MeasuredData, settings: _Settings,
-                 counter: _Counter):
+                 counter: _Counter, column_threads: int | None = None):
         self.start, self.frees, self.measured = start, frees, measured
         self.settings, self.counter = settings, counter
         parts = [free.internal_bounds() for free in frees]
@@ -127,7 +136,9 @@ class _Problem:
         self.still = STILL_COLUMN * float(np.linalg.norm(measured.force))
         self.threads = None
         self.pool = None
-        if settings.workers is not None:
+        if column_threads is not None:
+            self._threads_for(min(column_threads, max(self.low.size, 1)))
+        elif settings.workers is not None:
             self._threads_for(_worker_count(settings.workers, self.low.size, math.inf))
 
     def _threads_for(self, count):
@@ -260,27 +271,40 @@ class _Problem:
 
 
 def _fit_from_starts(start, keys, bounds, frees, measured, settings, counter, *, starts,
-                     spread, extra_starts, special_cases) -> list[_LocalFit]:
-    """The local fits from every starting point (:mod:`polind.identification.starts`)."""
-    def fit_special_case(case):
-        return _special_case_fit(case, bounds, measured, settings, counter)
+                     spread, extra_starts, special_cases, pool=None) -> list[_LocalFit]:
+    """The local fits from every starting point (:mod:`polind.identification.starts`).
 
-    problem = _Problem(start, frees, measured, settings, counter)
+    With a ``pool`` of threads the starts run side by side on it, each start's
+    Jacobian on its own thread; the fits come back in the order of the starts.
+    The starting points are made here, on the calling thread: the fit of a
+    special case (which runs its own starts on the same pool) happens when its
+    start is reached, while the starts before it run.
+    """
+    def fit_special_case(case):
+        return _special_case_fit(case, bounds, measured, settings, counter, pool)
+
+    problem = _Problem(start, frees, measured, settings, counter,
+                       column_threads=None if pool is None else 1)
     fits = []
+    pending = []
     try:
         for label, u0 in starting_points(
                 start, keys, frees, measured, starts=starts, spread=spread,
                 extra_starts=extra_starts,
                 fit_special_case=fit_special_case if special_cases else None):
-            local = problem.solve(label, u0)
-            if local is not None:
-                fits.append(local)
+            if pool is None:
+                fits.append(problem.solve(label, u0))
+            else:
+                pending.append(pool.submit(problem.solve, label, u0))
+        fits += [future.result() for future in pending]
     finally:
+        for future in pending:
+            future.cancel()
         problem.close()
-    return fits
+    return [local for local in fits if local is not None]
 
 
-def _special_case_fit(case, bounds, measured, settings, counter):
+def _special_case_fit(case, bounds, measured, settings, counter, pool=None):
     """The fitted contained model of a special case, or None where it cannot be fitted.
 
     Its free keys are ``case.free``; it keeps the containing fit's bounds of
@@ -302,11 +326,49 @@ def _special_case_fit(case, bounds, measured, settings, counter):
     except InputError:
         return None
     fits = _fit_from_starts(start, keys, given, frees, measured, settings, counter,
-                            starts=None, spread=0, extra_starts=None, special_cases=False)
+                            starts=None, spread=0, extra_starts=None, special_cases=False,
+                            pool=pool)
     if not fits:
         return None
     best = min(fits, key=lambda local: local.rss)
     return model_at(start, frees, best.u)
+
+
+def _simulation_seconds(start, measured: MeasuredData) -> float:
+    """The time of one simulation of the data [s]; InputError where the start's force is not finite.
+
+    The first simulation may include compiling the model's kernels: one that
+    looks long enough for threads (:data:`_THREADED_SIMULATION`) is timed
+    again.
+    """
+    seconds = math.inf
+    for _ in range(2):
+        clock = time.perf_counter()
+        force = measured.simulate(start)
+        seconds = time.perf_counter() - clock
+        if not np.all(np.isfinite(force)):
+            raise InputError(f"The starting {start.type} model gives a non-finite force on "
+                             "these data; check its parameters.")
+        if seconds < _THREADED_SIMULATION:
+            break
+    return seconds
+
+
+def _start_pool(workers, starts, seconds):
+    """The threads the starts run on side by side, or None (one start, or quick simulations).
+
+    ``workers`` threads when given (more than one), else one per core when a
+    simulation takes at least :data:`_THREADED_SIMULATION`.  A fit from one
+    start (``starts=1``) threads its Jacobian's columns instead.
+    """
+    if starts == 1:
+        return None
+    tasks = (os.cpu_count() or 1) if workers is None else workers
+    count = _worker_count(workers, tasks, seconds)
+    if count < 2:
+        return None
+    from concurrent.futures import ThreadPoolExecutor
+    return ThreadPoolExecutor(max_workers=count, thread_name_prefix="polind-fit")
 
 
 def _checked_extra_starts(extra_starts, start) -> dict:
@@ -410,13 +472,14 @@ def identify(model, data, *, free=None, bounds=None, holdout=None, starts=None,
         whose parameters the model rejects (such points cost the solver a
         large constant residual, so it backs off).
     workers : int, optional
-        Threads that simulate the columns of the finite-difference Jacobian
-        side by side (the numba kernels release the GIL).  Default: the
-        number of cores, at most one per column, when one simulation of the
-        data takes more than 5 ms (a long record, Pol-Ind under a varying
-        load); one thread for quicker ones, where the threads' overhead and
-        the BLAS's own threads eat the gain.  The result does not depend on
-        it.
+        Threads that run the fit's starts side by side, one start a thread
+        (the numba kernels release the GIL); a fit from one start
+        (``starts=1``) simulates the columns of its finite-difference
+        Jacobian side by side instead.  Default: the number of cores when
+        one simulation of the data takes more than 5 ms (a long record,
+        Pol-Ind under a varying load); one thread for quicker ones, where the
+        threads' overhead and the BLAS's own threads eat the gain.  The
+        result does not depend on it.
 
     Returns
     -------
@@ -480,19 +543,22 @@ def identify(model, data, *, free=None, bounds=None, holdout=None, starts=None,
         raise InputError(f"Identification of {n_variables} parameter values needs more samples "
                          f"than that. Got {measured.size} samples of 't'"
                          + ("." if fitted_samples is None else " in the fitted part."))
-    if not np.all(np.isfinite(measured.simulate(start))):
-        raise InputError(f"The starting {start.type} model gives a non-finite force on these "
-                         "data; check its parameters.")
+    seconds = _simulation_seconds(start, measured)
     settings = _Settings(max_evaluations, tolerance, diff_step, x_scale, workers)
     counter = _Counter(callback)
-    with warnings.catch_warnings():
-        # A trial model's validity is no news (a fit tries hundreds): the fitted model's
-        # own warning, if it has one, is given once below.
-        warnings.simplefilter("ignore", ValidityWarning)
-        fits = _fit_from_starts(start, keys, given_bounds, frees, measured, settings, counter,
-                                starts=starts, spread=DEFAULT_SPREAD_STARTS,
-                                extra_starts=_checked_extra_starts(extra_starts, start),
-                                special_cases=True)
+    pool = _start_pool(workers, starts, seconds)
+    try:
+        with warnings.catch_warnings():
+            # A trial model's validity is no news (a fit tries hundreds): the fitted model's
+            # own warning, if it has one, is given once below.
+            warnings.simplefilter("ignore", ValidityWarning)
+            fits = _fit_from_starts(start, keys, given_bounds, frees, measured, settings,
+                                    counter, starts=starts, spread=DEFAULT_SPREAD_STARTS,
+                                    extra_starts=_checked_extra_starts(extra_starts, start),
+                                    special_cases=True, pool=pool)
+    finally:
+        if pool is not None:
+            pool.shutdown(cancel_futures=True)
     best = min(fits, key=lambda local: local.rss)        # the first of equals: the earliest
     fitted = model_at(start, frees, best.u)
     force = measured.simulate(fitted)
