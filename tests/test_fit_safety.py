@@ -468,3 +468,28 @@ def test_no_fit_without_bounds_returns_a_force_level_a_hundred_times_the_data(na
         if unit == "N":
             assert np.max(fit.values[key]) < 100.0 * amplitude, (key, fit.values[key])
     assert fit.rms_error < 0.15 * amplitude
+
+
+# --- where a start stops -------------------------------------------------------------------------
+
+def test_a_start_stops_once_an_iteration_gains_less_than_a_hundredth_of_the_noise(monkeypatch):
+    """The noise rule of the solver, checked after each accepted iteration: it ends the fit
+    earlier than SciPy's own tolerances and moves no value by a tenth of its standard error."""
+    from polind.identification import solver
+
+    truth = model({"type": "lugre", "coulomb_force": 1.0, "static_force": 1.5,
+                   "stribeck_velocity": 1e-3, "bristle_stiffness": 1e5,
+                   "bristle_damping": 300.0, "viscous_coefficient": 0.5})
+    t, x = strokes(2001, 4.0, 2e-3)
+    force = polind.simulate(truth, t, x=x).force + 0.02 * np.random.default_rng(3).normal(
+        size=t.size)
+    start = truth.with_params(coulomb_force=0.5, static_force=2.0, stribeck_velocity=3e-3)
+    data = {"t": t, "x": x, "F": force}
+    stopped = quiet(identify, start, data, starts=1)
+    assert stopped.success and stopped.message == solver.NOISE_STOP
+    monkeypatch.setattr(solver, "NOISE_SHARE", 0.0)
+    onwards = quiet(identify, start, data, starts=1)
+    assert onwards.message != solver.NOISE_STOP
+    assert stopped.evaluations < onwards.evaluations
+    for key, value in onwards.values.items():
+        assert abs(stopped.values[key] - value) < 0.1 * onwards.standard_errors[key], key

@@ -21,10 +21,14 @@ there: it is fixed at that start and not iterated on, and the result reports
 it as not identifiable.
 
 A start stops when an iteration lowers the sum of squares by less than
-:data:`NOISE_SHARE` of the noise variance ``s^2 = RSS / (n - p)`` (the
-solver's ``ftol`` is at least ``NOISE_SHARE / (n - p)``): what is left to gain
-is below anything the data can tell apart, and on a long record the default
-``tolerance`` alone would iterate on it.
+:data:`NOISE_SHARE` of the noise variance ``s^2 = RSS / (n - p)``: what is
+left to gain is below anything the data can tell apart, and on a long record
+the default ``tolerance`` alone would iterate on it.  The solver's ``ftol``
+is at least ``NOISE_SHARE / (n - p)``, but SciPy applies it only to a step
+its model of the sum of squares predicted well, and a friction model's
+residual has kinks (an element that sticks or slips one sample earlier), so
+the rule is also checked after each accepted iteration, through
+``least_squares``'s ``callback``.
 """
 
 from __future__ import annotations
@@ -61,6 +65,9 @@ STILL_COLUMN = 1e-8
 #: the noise variance ``RSS / (n - p)``: a free value moves then by about a tenth of its
 #: standard error at most.
 NOISE_SHARE = 1e-2
+#: The solver's message of a start stopped by :data:`NOISE_SHARE` in the callback.
+NOISE_STOP = ("an iteration lowered the sum of squares by less than a hundredth of the noise "
+              "variance")
 
 
 def _worker_count(workers, columns: int, seconds: float) -> int:
@@ -259,15 +266,31 @@ class _Problem:
                 return known
             return self.jacobian(unpack(x), residuals(x), active)
 
+        accepted = {"rss": float(base @ base)}
+
+        def small_decrease(intermediate_result):
+            """Stop (StopIteration) after an iteration that lowered the sum of squares by
+            less than NOISE_SHARE of the noise variance (SciPy passes the iteration's
+            result to a parameter of this name)."""
+            rss = 2.0 * float(intermediate_result.cost)
+            decrease = accepted["rss"] - rss
+            accepted["rss"] = rss
+            noise = rss / max(self.measured.size - active.size, 1)
+            if 0.0 < decrease < NOISE_SHARE * noise:
+                raise StopIteration
+
         settings = self.settings
         solution = least_squares(residuals, x0, jac=jacobian,
                                  bounds=(self.low[active] + 1.0, self.high[active] + 1.0),
                                  method="trf", x_scale=settings.x_scale,
                                  ftol=self.cost_tolerance(active.size),
                                  xtol=settings.tolerance,
-                                 gtol=settings.tolerance, max_nfev=settings.max_evaluations)
+                                 gtol=settings.tolerance, max_nfev=settings.max_evaluations,
+                                 callback=small_decrease)
+        stopped = solution.status == -2             # by small_decrease: at the noise floor
         return (unpack(solution.x), solution.fun, solution.jac, int(solution.njev or 0),
-                solution.status > 0, str(solution.message))
+                stopped or solution.status > 0,
+                NOISE_STOP if stopped else str(solution.message))
 
 
 def _fit_from_starts(start, keys, bounds, frees, measured, settings, counter, *, starts,
