@@ -117,21 +117,29 @@ MAX_ITERATIONS = 200
 
 
 @jit(inline="always")
-def bare_trial(step_function, tangent_function, memoryless, mount, scalars, table, state,
-               scratch, velocity, step, sample_slope, sample_offset, normal_load):
-    """``(F(w), tangent)`` without touching ``state`` (the update runs on ``scratch``).
+def bare_trial(step_function, tangent_function, trial_function, memoryless, mount, scalars,
+               table, state, scratch, velocity, step, sample_slope, sample_offset, normal_load):
+    """``(F(w), tangent)`` without touching ``state``.
 
-    A memoryless model is evaluated at the step velocity, so that ``w = 0``
-    is its stick; a model with state takes its rate terms at the body's
-    velocity at the sample, ``sample_slope * w + sample_offset``.  ``mount``
-    is not used: this is the trial of a model with nothing around its
-    contact (:mod:`polind.kernels.mount` has the trial of a mounted one).
+    The model's read-only ``trial_function``
+    (:func:`polind.kernels.contract.no_trial`) where it has one and it
+    answers; else the update runs on ``scratch``, a copy of ``state``, and
+    the tangent is taken there.  A memoryless model is evaluated at the step
+    velocity, so that ``w = 0`` is its stick; a model with state takes its
+    rate terms at the body's velocity at the sample, ``sample_slope * w +
+    sample_offset``.  ``mount`` is not used: this is the trial of a model
+    with nothing around its contact (:mod:`polind.kernels.series` has the
+    trial of a mounted one).
     """
+    sample_velocity = velocity if memoryless else sample_slope * velocity + sample_offset
+    force, tangent, done = trial_function(scalars, table, state, step, velocity * step, velocity,
+                                          sample_velocity, normal_load)
+    if done:
+        return force, tangent
     n = state.shape[0]
     work = scratch[:n]
     for i in range(n):      # a loop: `work[:] = state` compiles NumPy's shape-error message (5 s)
         work[i] = state[i]
-    sample_velocity = velocity if memoryless else sample_slope * velocity + sample_offset
     force = step_function(scalars, table, work, step, velocity * step, velocity,
                           sample_velocity, normal_load)
     return force, tangent_function(scalars, table, work, step)

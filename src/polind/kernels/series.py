@@ -51,17 +51,28 @@ from polind.kernels.mount import (CONTACT_POSITION, CONTACT_VELOCITY, FORCE_SCAL
 
 
 @jit(inline="always")
-def contact_trial(step_function, tangent_function, memoryless, mount, scalars, table, state,
-                  scratch, velocity, step, sample_slope, sample_offset, normal_load):
-    """``(F_contact(w), dF/dw)`` of the scaled contact on a copy of ``state`` (in ``scratch``)."""
-    n = state.shape[0]
-    work = scratch[:n]
-    for i in range(n):      # a loop: `work[:] = state` compiles NumPy's shape-error message (5 s)
-        work[i] = state[i]
+def contact_trial(step_function, tangent_function, trial_function, memoryless, mount, scalars,
+                  table, state, scratch, velocity, step, sample_slope, sample_offset,
+                  normal_load):
+    """``(F_contact(w), dF/dw)`` of the scaled contact, ``state`` untouched.
+
+    From the model's read-only ``trial_function`` where it answers
+    (:func:`polind.kernels.contract.no_trial`), else from its step on a copy
+    of ``state`` (in ``scratch``) and the tangent there.
+    """
     sample_velocity = velocity if memoryless else sample_slope * velocity + sample_offset
-    force = contact_step(step_function, mount, scalars, table, work, step, velocity * step,
-                         velocity, sample_velocity, normal_load)
-    return force, load_ratio(mount, normal_load) * tangent_function(scalars, table, work, step)
+    force, tangent, done = trial_function(scalars, table, state, step, velocity * step, velocity,
+                                          sample_velocity, normal_load)
+    if not done:
+        n = state.shape[0]
+        work = scratch[:n]
+        for i in range(n):  # a loop: `work[:] = state` compiles NumPy's shape-error message (5 s)
+            work[i] = state[i]
+        force = step_function(scalars, table, work, step, velocity * step, velocity,
+                              sample_velocity, normal_load)
+        tangent = tangent_function(scalars, table, work, step)
+    return (scaled_force(mount, force, sample_velocity, normal_load),
+            load_ratio(mount, normal_load) * tangent)
 
 
 @jit(inline="always")

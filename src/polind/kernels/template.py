@@ -10,8 +10,9 @@ functions as arguments in its on-disk cache, so each model has a module of
 *runners*: the functions below, with the model's functions bound as the
 module's globals ``model_step``, ``model_force``, ``model_tangent`` and
 ``model_settled`` (the step the body uses; Pol-Ind's skips its load
-update), and, for a model with a blocked motion path, ``model_blocks`` and
-``model_block``.
+update), ``model_trial`` (the model's read-only trial, or
+:func:`polind.kernels.contract.no_trial`) and, for a model with a blocked
+motion path, ``model_blocks`` and ``model_block``.
 
 Every line below the marker is copied, unchanged, into the module of each
 of polind's models under ``polind.kernels.generated`` by
@@ -29,6 +30,7 @@ shared by the mounted path and the mounted body.
 # Placeholders: a generated module binds these to one model's functions.
 from polind.kernels import jit
 from polind.kernels.contract import no_block as model_block, no_blocks as model_blocks
+from polind.kernels.contract import no_trial as model_trial
 
 model_step = model_force = model_tangent = model_settled = None
 
@@ -126,8 +128,9 @@ def stepper_velocity(buffer, t, v, normal_load):
 def trial(memoryless, mount, scalars, table, state, scratch, velocity, step, sample_slope,
           sample_offset, normal_load):
     """The body solver's trial: :func:`polind.kernels.dynamics.bare_trial` of the model."""
-    return bare_trial(model_settled, model_tangent, memoryless, mount, scalars, table, state,
-                      scratch, velocity, step, sample_slope, sample_offset, normal_load)
+    return bare_trial(model_settled, model_tangent, model_trial, memoryless, mount, scalars,
+                      table, state, scratch, velocity, step, sample_slope, sample_offset,
+                      normal_load)
 
 
 @jit
@@ -189,8 +192,9 @@ def body_buffer(buffer, normal_load, applied_force):
 def spring_trial(memoryless, mount, scalars, table, state, scratch, velocity, step,
                  sample_slope, sample_offset, normal_load):
     """The spring's solve's trial: :func:`polind.kernels.series.contact_trial` of the model."""
-    return contact_trial(model_step, model_tangent, memoryless, mount, scalars, table, state,
-                         scratch, velocity, step, sample_slope, sample_offset, normal_load)
+    return contact_trial(model_step, model_tangent, model_trial, memoryless, mount, scalars,
+                         table, state, scratch, velocity, step, sample_slope, sample_offset,
+                         normal_load)
 
 
 @jit
