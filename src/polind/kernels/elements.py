@@ -385,7 +385,7 @@ def gms_tangent(scalars, table, state, step):
 @jit(inline="always")
 def gms_trial_scaled(scalars, table, element_force, slip_direction, step, displacement,
                      step_velocity, sample_velocity, coulomb_force, static_force):
-    """:func:`gms_step_scaled` without storing: ``(F, tangent)``, the tangent :func:`gms_tangent`'s.
+    """:func:`gms_step_scaled` without storing: ``(F, tangent)`` (:func:`gms_tangent`'s tangent).
 
     The force the step returns and the tangent of the state it leaves, in
     one pass over the elements (:func:`gms_trial_elements`); a step with
@@ -409,7 +409,7 @@ def gms_trial_scaled(scalars, table, element_force, slip_direction, step, displa
 @jit
 def gms_trial_step(scalars, table, state, step, displacement, step_velocity, sample_velocity,
                    normal_load):
-    """The read-only trial (:func:`polind.kernels.contract.no_trial`) of GMS: :func:`gms_trial_scaled`."""
+    """GMS's read-only trial (:func:`polind.kernels.contract.no_trial`): :func:`gms_trial_scaled`."""
     n = table.shape[1]
     force, tangent = gms_trial_scaled(scalars, table, state[:n], state[n:2 * n], step,
                                       displacement, step_velocity, sample_velocity,
