@@ -409,7 +409,7 @@ def gms_trial_scaled(scalars, table, element_force, slip_direction, step, displa
 @jit
 def gms_trial_step(scalars, table, state, step, displacement, step_velocity, sample_velocity,
                    normal_load):
-    """GMS's read-only trial (:func:`polind.kernels.contract.no_trial`): :func:`gms_trial_scaled`."""
+    """The read-only trial of GMS (:func:`polind.kernels.contract.no_trial`)."""
     n = table.shape[1]
     force, tangent = gms_trial_scaled(scalars, table, state[:n], state[n:2 * n], step,
                                       displacement, step_velocity, sample_velocity,
