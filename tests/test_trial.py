@@ -4,7 +4,10 @@ The implicit solvers (the body's and the series spring's) ask a model's
 ``trial`` for the force and tangent of a step without writing its state; it
 must give what the step on a copy of the state and the tangent there give
 (to rounding: the sums may run in another order), leave every array as it
-was, and decline (``done`` false) where Pol-Ind's table is at another load.
+was, and decline (``written`` -1) where Pol-Ind's table is at another load.
+Asked to keep its state (``keep``), it writes the state the step leaves into
+its ``out`` array: the leading ``written`` entries, bit for bit the step's
+(the series spring takes that state instead of stepping again).
 """
 
 from __future__ import annotations
@@ -36,20 +39,23 @@ def _trial_of(kernel):
     return getattr(__import__(module, fromlist=["_"]), names["trial"])
 
 
+@pytest.mark.parametrize("keep", [False, True])
 @pytest.mark.parametrize("velocity", VELOCITIES)
 @pytest.mark.parametrize("model", [MaxwellSlip.example(elements=40), GMS.example(elements=40),
                                    PolInd.example()], ids=["maxwell-slip", "gms", "pol-ind"])
-def test_the_trial_is_the_step_on_a_copy_and_writes_nothing(model, velocity):
+def test_the_trial_is_the_step_on_a_copy_and_writes_only_out(model, velocity, keep):
     kernel = _kernel(model)
     trial = _trial_of(kernel)
     arrays = (kernel.scalars, kernel.table, kernel.state)
     before = [array.copy() for array in arrays]
+    out = np.full(kernel.state.shape[0], np.nan)
     sample_velocity = 1.5 * velocity - 1e-4
-    force, tangent, done = trial(*arrays, STEP, velocity * STEP, velocity, sample_velocity,
-                                 kernel.normal_load)
-    assert done
+    force, tangent, written = trial(*arrays, out, keep, STEP, velocity * STEP, velocity,
+                                    sample_velocity, kernel.normal_load)
+    assert written >= 0 and (keep or written == 0)
     for array, copy in zip(arrays, before):
         np.testing.assert_array_equal(array, copy)
+    assert np.isnan(out[written:]).all()
     work = kernel.state.copy()
     expected = kernel.step(kernel.scalars, kernel.table, work, STEP, velocity * STEP, velocity,
                            sample_velocity, kernel.normal_load)
@@ -57,6 +63,8 @@ def test_the_trial_is_the_step_on_a_copy_and_writes_nothing(model, velocity):
     scale = np.sum(np.abs(kernel.state[:kernel.table.shape[1]])) + 1.0
     assert abs(force - expected) <= 1e-13 * scale
     assert tangent == pytest.approx(expected_tangent, rel=1e-13, abs=1e-300)
+    np.testing.assert_array_equal(np.where(np.arange(work.shape[0]) < written, out, work), work)
+    assert written > 0 or velocity == 0.0 or not keep
 
 
 def test_pol_ind_declines_a_trial_at_another_load_and_changes_nothing():
@@ -64,8 +72,10 @@ def test_pol_ind_declines_a_trial_at_another_load_and_changes_nothing():
     trial = _trial_of(kernel)
     arrays = (kernel.scalars, kernel.table, kernel.state)
     before = [array.copy() for array in arrays]
-    force, tangent, done = trial(*arrays, STEP, 1e-6, 1e-3, 1e-3, 0.9 * kernel.normal_load)
-    assert not done
+    out = np.zeros(kernel.state.shape[0])
+    force, tangent, written = trial(*arrays, out, True, STEP, 1e-6, 1e-3, 1e-3,
+                                    0.9 * kernel.normal_load)
+    assert written == -1 and not out.any()
     for array, copy in zip(arrays, before):
         np.testing.assert_array_equal(array, copy)
 
@@ -82,8 +92,8 @@ def test_pol_ind_brings_stale_weights_up_to_date_as_its_step_would():
     assert scalars[pol_ind.TABLE_STALE] == 1.0
     copies = scalars.copy(), table.copy(), state.copy()
     expected = pol_ind.settled_step(*copies, STEP, 2e-6, 2e-3, 2e-3, load)
-    force, _, done = pol_ind.pol_ind_trial_step(scalars, table, state, STEP, 2e-6, 2e-3, 2e-3,
-                                                load)
-    assert done and scalars[pol_ind.TABLE_STALE] == 0.0
+    force, _, written = pol_ind.pol_ind_trial_step(scalars, table, state, np.zeros(0), False,
+                                                   STEP, 2e-6, 2e-3, 2e-3, load)
+    assert written == 0 and scalars[pol_ind.TABLE_STALE] == 0.0
     assert abs(force - expected) <= 1e-13 * (abs(expected) + 1.0)
     np.testing.assert_array_equal(table, copies[1])

@@ -244,18 +244,22 @@ def no_block(scalars, table, state, source_t, source_motion, t, motion, velocity
 
 
 @jit(inline="always")
-def no_trial(scalars, table, state, step, displacement, step_velocity, sample_velocity,
-             normal_load):
-    """The read-only trial of a model without one: ``(NaN, NaN, False)``, never read.
+def no_trial(scalars, table, state, out, keep, step, displacement, step_velocity,
+             sample_velocity, normal_load):
+    """The read-only trial of a model without one: ``(NaN, NaN, -1)``, never read.
 
-    A model may supply ``trial(scalars, table, state, step, displacement,
-    step_velocity, sample_velocity, normal_load) -> (F, dF/dw, done)``: the
-    force ``step`` would return and the ``tangent`` of the state it would
-    leave, computed without writing ``state``; ``done`` false where it cannot
-    (the caller then steps a copy of the state, as for a model without one).
-    Inlined, so that the callers' test of ``done`` folds away.
+    A model may supply ``trial(scalars, table, state, out, keep, step,
+    displacement, step_velocity, sample_velocity, normal_load) -> (F, dF/dw,
+    written)``: the force ``step`` would return and the ``tangent`` of the
+    state it would leave, computed without writing ``state``.  ``written``
+    is -1 where it cannot (the caller then steps a copy of the state, as for
+    a model without one); else the number ``m`` of leading entries of
+    ``out`` that hold the state after the step (its other entries are
+    ``state``'s own), which may be 0 unless ``keep``: with ``keep`` the
+    caller means to take that state if the step is accepted.  Inlined, so
+    that the callers' test of ``written`` folds away.
     """
-    return math.nan, math.nan, False
+    return math.nan, math.nan, -1
 
 
 @jit(fastmath=False)

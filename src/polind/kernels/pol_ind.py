@@ -449,29 +449,29 @@ def pol_ind_tangent(scalars, table, state, step):
 
 
 @jit
-def pol_ind_trial_step(scalars, table, state, step, displacement, step_velocity,
+def pol_ind_trial_step(scalars, table, state, out, keep, step, displacement, step_velocity,
                        sample_velocity, normal_load):
     """The read-only trial (:func:`polind.kernels.contract.no_trial`) at the table's load.
 
     At the load the table was last brought to, the step is the GMS step of
-    the table (:func:`settled_step_with`): ``(F, tangent, True)`` from
-    :func:`polind.kernels.elements.gms_trial_scaled`, after the weight rows
-    are brought up to date if a step left them stale, as the step would
+    the table (:func:`settled_step_with`): ``(F, tangent, written)`` from
+    :func:`polind.kernels.elements.gms_trial_scaled` (with ``keep``, the
+    new element forces and slip directions in ``out``), after the weight
+    rows are brought up to date if a step left them stale, as the step would
     (the one write, to the table, the same as the step's).  At another load
-    ``(NaN, NaN, False)``: the caller steps a copy, as without a trial.
+    ``(NaN, NaN, -1)``: the caller steps a copy, as without a trial.
     Serves the Hertzian, the fixed-load and the elastic-plastic steps alike
     (the same arrays at the table's load).
     """
     if normal_load != scalars[CURRENT_LOAD]:
-        return math.nan, math.nan, False
+        return math.nan, math.nan, -1
     if scalars[TABLE_STALE] != 0.0:
         refresh_shares(scalars, table)
     n = table.shape[1]
-    force, tangent = gms_trial_scaled(scalars, table, state[:n], state[n:2 * n], step,
-                                      displacement, step_velocity, sample_velocity,
-                                      scalars[KINETIC_COEFFICIENT] * normal_load,
-                                      scalars[STATIC_COEFFICIENT] * normal_load)
-    return force, tangent, True
+    return gms_trial_scaled(scalars, table, state[:n], state[n:2 * n], out, keep, step,
+                            displacement, step_velocity, sample_velocity,
+                            scalars[KINETIC_COEFFICIENT] * normal_load,
+                            scalars[STATIC_COEFFICIENT] * normal_load)
 
 
 @jit(inline="always")
