@@ -279,7 +279,7 @@ def maxwell_slip_trial_step(scalars, table, state, out, keep, step, displacement
     """The read-only trial (:func:`polind.kernels.contract.no_trial`) of Maxwell-slip.
 
     ``(F, tangent, written)``: the force :func:`maxwell_slip_step` returns
-    and :func:`maxwell_slip_tangent` of the state it leaves, in one pass
+    and ``maxwell_slip_tangent`` of the state it leaves, in one pass
     over the elements; with ``keep`` the new element forces go to ``out``.
     """
     stiffness = table[ELEMENT_STIFFNESS]
@@ -418,7 +418,7 @@ def gms_trial_scaled(scalars, table, element_force, slip_direction, out, keep, s
     """:func:`gms_step_scaled` without storing: ``(F, tangent, written)``.
 
     The force the step returns and the tangent of the state it leaves
-    (:func:`gms_tangent`'s), in one pass over the elements
+    (``gms_tangent``'s), in one pass over the elements
     (:func:`gms_trial_elements`).  With ``keep`` the new element forces and
     slip directions go to ``out`` (``2 n`` entries, the layout of the
     state: ``written = 2 n``); a step with zero velocity changes nothing
