@@ -23,6 +23,13 @@ positive estimate is safe there: it brackets and falls back to bisection);
 :func:`polind.control.linearize` reads the stuck body's stiffness and
 damping from it.
 
+The implicit solvers (the body's, the series spring's) evaluate the force
+of a step at trial velocities without keeping the state it leaves: by
+default they copy the state into scratch, step the copy and take the
+tangent there.  One of polind's element models also has a *read-only
+trial* (:func:`no_trial` documents it), which computes that force and
+tangent in one pass over its elements without writing anything.
+
 Everything else — prescribed paths (:func:`run_steps`), the implicit body of
 :mod:`polind.kernels.dynamics`, the series spring of
 :mod:`polind.kernels.series`, :class:`polind.Stepper`, a user's own
@@ -234,6 +241,25 @@ def no_block(scalars, table, state, source_t, source_motion, t, motion, velocity
              hi):
     """The block of a model without one: never called (:func:`no_blocks` is false)."""
     return -1
+
+
+@jit(inline="always")
+def no_trial(scalars, table, state, out, keep, step, displacement, step_velocity,
+             sample_velocity, normal_load):
+    """The read-only trial of a model without one: ``(NaN, NaN, -1)``, never read.
+
+    A model may supply ``trial(scalars, table, state, out, keep, step,
+    displacement, step_velocity, sample_velocity, normal_load) -> (F, dF/dw,
+    written)``: the force ``step`` would return and the ``tangent`` of the
+    state it would leave, computed without writing ``state``.  ``written``
+    is -1 where it cannot (the caller then steps a copy of the state, as for
+    a model without one); else the number ``m`` of leading entries of
+    ``out`` that hold the state after the step (its other entries are
+    ``state``'s own), which may be 0 unless ``keep``: with ``keep`` the
+    caller means to take that state if the step is accepted.  Inlined, so
+    that the callers' test of ``written`` folds away.
+    """
+    return math.nan, math.nan, -1
 
 
 @jit(fastmath=False)

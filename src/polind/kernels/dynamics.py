@@ -114,27 +114,42 @@ EULER = 1
 
 RTOL = 1e-13           # residual tolerance relative to |known| + force_scale
 MAX_ITERATIONS = 200
+#: A trial after a residual within this many tolerances is likely the last, and keeps its
+#: state for a caller that reuses it (:func:`solve_step`'s ``reuse``).
+KEEP_BELOW = 1e7
 
 
 @jit(inline="always")
-def bare_trial(step_function, tangent_function, memoryless, mount, scalars, table, state,
-               scratch, velocity, step, sample_slope, sample_offset, normal_load):
-    """``(F(w), tangent)`` without touching ``state`` (the update runs on ``scratch``).
+def bare_trial(step_function, tangent_function, trial_function, memoryless, mount, scalars,
+               table, state, scratch, velocity, step, sample_slope, sample_offset, normal_load,
+               keep):
+    """``(F(w), tangent, written)`` without touching ``state``.
 
-    A memoryless model is evaluated at the step velocity, so that ``w = 0``
-    is its stick; a model with state takes its rate terms at the body's
-    velocity at the sample, ``sample_slope * w + sample_offset``.  ``mount``
-    is not used: this is the trial of a model with nothing around its
-    contact (:mod:`polind.kernels.mount` has the trial of a mounted one).
+    The model's read-only ``trial_function``
+    (:func:`polind.kernels.contract.no_trial`, given ``scratch`` and
+    ``keep``) where it has one and it answers; else the update runs on
+    ``scratch``, a copy of ``state``, and the tangent is taken there.
+    ``written``: the leading entries of ``scratch`` that hold the state
+    after the step (:func:`solve_step`).  A memoryless model is evaluated at the step
+    velocity, so that ``w = 0`` is its stick; a model with state takes its
+    rate terms at the body's velocity at the sample, ``sample_slope * w +
+    sample_offset``.  ``mount`` is not used: this is the trial of a model
+    with nothing around its contact (:mod:`polind.kernels.series` has the
+    trial of a mounted one).
     """
+    sample_velocity = velocity if memoryless else sample_slope * velocity + sample_offset
+    force, tangent, written = trial_function(scalars, table, state, scratch, keep, step,
+                                             velocity * step, velocity, sample_velocity,
+                                             normal_load)
+    if written >= 0:
+        return force, tangent, written
     n = state.shape[0]
     work = scratch[:n]
     for i in range(n):      # a loop: `work[:] = state` compiles NumPy's shape-error message (5 s)
         work[i] = state[i]
-    sample_velocity = velocity if memoryless else sample_slope * velocity + sample_offset
     force = step_function(scalars, table, work, step, velocity * step, velocity,
                           sample_velocity, normal_load)
-    return force, tangent_function(scalars, table, work, step)
+    return force, tangent_function(scalars, table, work, step), n
 
 
 @jit(inline="always")
@@ -148,20 +163,29 @@ def bare_commit(step_function, mount, scalars, table, state, scratch, step, disp
 @jit(inline="always")
 def solve_step(trial, tangent_function, memoryless, rest_capacity, force_scale,
                mount, scalars, table, state, scratch, inertia, known, guess, step, position,
-               sample_slope, sample_offset, normal_load):
+               sample_slope, sample_offset, normal_load, reuse):
     """Solve ``inertia w + F(w) = known`` for the step velocity ``w``.
 
     ``trial(memoryless, mount, scalars, table, state, scratch, w, step,
-    sample_slope, sample_offset, normal_load)`` evaluates ``(F(w), dF/dw)``
-    on ``scratch`` without touching ``state``: a model's :func:`bare_trial`
+    sample_slope, sample_offset, normal_load, keep)`` evaluates ``(F(w),
+    dF/dw, written)`` without touching ``state`` (``scratch`` is its work
+    space; ``written``: see below): a model's :func:`bare_trial`
     or the trial of a mounted contact (:mod:`polind.kernels.series`) with
     the model's functions bound, compiled on its own (the runners'
     ``trial``, :mod:`polind.kernels.template`), so that the model's step is
     not inlined at each of the solver's calls.  ``tangent_function`` is the
     model's (a memoryless model's tangent at rest).  The body's velocity at the end of the step, at which the friction's rate
     terms are taken, is ``sample_slope * w + sample_offset``.  Returns
-    ``(w, held)``; ``held`` is true when a memoryless model sticks (``w = 0``
-    and the friction is ``known``).
+    ``(w, held, F, written)``; ``held`` is true when a memoryless model
+    sticks (``w = 0`` and the friction is ``known``).  ``F`` is the trial's
+    force at the returned ``w`` and ``written`` the number of leading
+    entries of ``scratch`` that hold the state after that trial's step (the
+    rest is ``state``'s own) when the returned ``w`` is the last trial's,
+    else NaN and 0.  With ``reuse`` (a caller that takes that state instead
+    of stepping again: :func:`polind.kernels.series.mounted_step_with`) the
+    trials that are likely the last (the residual before them within
+    :data:`KEEP_BELOW` tolerances) ask the model to keep their state
+    (``keep``); a model's read-only trial writes nothing otherwise.
 
     A memoryless model's ``rest_capacity`` is that at the mount's reference
     load, scaled by ``load_ratio`` (:mod:`polind.kernels.mount`).
@@ -177,17 +201,18 @@ def solve_step(trial, tangent_function, memoryless, rest_capacity, force_scale,
     if memoryless:
         capacity = rest_capacity * load_ratio(mount, normal_load)
         if abs(known) <= capacity:
-            return 0.0, True
+            return 0.0, True, math.nan, 0
         direction = sign(known)
         residual_at_zero = direction * capacity - known  # R(0+) or R(0-)
         tangent_at_zero = tangent_function(scalars, table, state, step)
     else:
-        force, tangent_at_zero = trial(memoryless, mount, scalars, table, state, scratch, 0.0,
-                                       step, sample_slope, sample_offset, normal_load)
+        force, tangent_at_zero, written = trial(memoryless, mount, scalars, table, state,
+                                                scratch, 0.0, step, sample_slope, sample_offset,
+                                                normal_load, False)
         residual_at_zero = force - known
         if abs(residual_at_zero) <= max(tolerance,
                                          0.5 * (inertia + tangent_at_zero) * quantum):
-            return 0.0, False
+            return 0.0, False, force, written
         direction = -sign(residual_at_zero)
     # The least motion in that direction: one unit in the last place of x.
     least = (np.nextafter(position, direction * np.inf) - position) / step
@@ -208,13 +233,15 @@ def solve_step(trial, tangent_function, memoryless, rest_capacity, force_scale,
     best_residual = np.inf
     jump_checked = False
     for iteration in range(MAX_ITERATIONS):
-        force, tangent = trial(memoryless, mount, scalars, table, state, scratch, velocity,
-                               step, sample_slope, sample_offset, normal_load)
+        keep = reuse and abs(last_residual) <= KEEP_BELOW * tolerance
+        force, tangent, written = trial(memoryless, mount, scalars, table, state, scratch,
+                                        velocity, step, sample_slope, sample_offset, normal_load,
+                                        keep)
         residual = inertia * velocity + force - known
         if abs(residual) < best_residual:
             best_velocity, best_residual = velocity, abs(residual)
         if abs(residual) <= tolerance:
-            return velocity, False
+            return velocity, False, force, written
         if residual < 0.0:
             low, low_residual = velocity, residual
         else:
@@ -244,7 +271,7 @@ def solve_step(trial, tangent_function, memoryless, rest_capacity, force_scale,
             width = high - low
             if width <= 4e-16 * max(abs(low), abs(high)) or width <= abs(least):
                 if low != 0.0 and high != 0.0:
-                    return best_velocity, False     # a kink at machine resolution
+                    return best_velocity, False, math.nan, 0     # a kink at machine resolution
                 # The root lies within the least motion of x.  A jump of F at
                 # w = 0 (a GMS element in slip relaxes at a rate that does not
                 # vanish as w -> 0; the set-valued Coulomb/Stribeck force) needs
@@ -255,11 +282,11 @@ def solve_step(trial, tangent_function, memoryless, rest_capacity, force_scale,
                 continuous_gap = 2.0 * (inertia + tangent_at_zero) * abs(least) + 2.0 * tolerance
                 if memoryless or abs(end_residual - residual_at_zero) > continuous_gap \
                         or abs(end_residual) < abs(residual_at_zero):
-                    return end_velocity, False
-                return 0.0, False
+                    return end_velocity, False, math.nan, 0
+                return 0.0, False, math.nan, 0
         last_velocity, last_residual = velocity, residual
         velocity = candidate
-    return best_velocity, False
+    return best_velocity, False, math.nan, 0
 
 
 
@@ -330,10 +357,11 @@ def body_step(trial, commit, tangent_function, memoryless, rest_capacity,
     sample_slope, sample_offset, inertia, known = momentum_terms(
         method == BDF2 and history, mass, drive_stiffness, step, external, velocity,
         previous_velocity, previous_step_velocity)
-    step_velocity, stuck = solve_step(trial, tangent_function, memoryless,
-                                      rest_capacity, force_scale, mount, scalars, table, state,
-                                      scratch, inertia, known, previous_step_velocity, step,
-                                      position, sample_slope, sample_offset, normal_load)
+    step_velocity, stuck, _, _ = solve_step(trial, tangent_function, memoryless,
+                                            rest_capacity, force_scale, mount, scalars, table,
+                                            state, scratch, inertia, known,
+                                            previous_step_velocity, step, position,
+                                            sample_slope, sample_offset, normal_load, False)
     if stuck:
         return position, 0.0, known, 0.0, False
     new_position, displacement = rounded_motion(position, step, step_velocity)

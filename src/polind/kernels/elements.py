@@ -169,6 +169,47 @@ def gms_element(force, slip, stiffness, weight, inverse_weight, capacity_scale, 
     return new_force, direction if (slipping or crosses) else 0.0
 
 
+@jit(inline="always")
+def gms_trial_elements(element_force, slip_direction, stiffness, weight, inverse_weight,
+                       capacity_scale, direction, displacement, decay_rate):
+    """:func:`gms_elements` without storing: ``(sum of forces, summed stiffness in stick)``.
+
+    Each element's new force and slip direction as :func:`gms_element`
+    gives them; the second sum is what :func:`stuck_stiffness` would sum
+    over the elements after the step.
+    """
+    total = 0.0
+    stuck = 0.0
+    for i in range(element_force.shape[0]):
+        force, slip = gms_element(element_force[i], slip_direction[i], stiffness[i], weight[i],
+                                  inverse_weight[i], capacity_scale, direction, displacement,
+                                  decay_rate)
+        total += force
+        stuck += stiffness[i] if slip == 0.0 else 0.0
+    return total, stuck
+
+
+@jit(inline="always")
+def gms_kept_elements(element_force, slip_direction, stiffness, weight, inverse_weight,
+                      capacity_scale, direction, displacement, decay_rate, out_force, out_slip):
+    """:func:`gms_trial_elements` that also writes each element's new force and slip direction.
+
+    Into ``out_force`` and ``out_slip``, not into the state: a trial whose
+    state the caller may take (:func:`polind.kernels.contract.no_trial`).
+    """
+    total = 0.0
+    stuck = 0.0
+    for i in range(element_force.shape[0]):
+        force, slip = gms_element(element_force[i], slip_direction[i], stiffness[i], weight[i],
+                                  inverse_weight[i], capacity_scale, direction, displacement,
+                                  decay_rate)
+        out_force[i] = force
+        out_slip[i] = slip
+        total += force
+        stuck += stiffness[i] if slip == 0.0 else 0.0
+    return total, stuck
+
+
 # --- the stepping contract (polind.kernels.contract) of the element models ---------------
 #
 # Maxwell-slip: scalars [sigma2], table rows [k_i, W_i], state [F_i].
@@ -228,6 +269,36 @@ def maxwell_slip_force(scalars, table, state, sample_velocity, normal_load):
 def maxwell_slip_tangent(scalars, table, state, step):
     return step * elastic_stiffness(table[ELEMENT_STIFFNESS], state,
                                     table[ELEMENT_CAPACITY]) + scalars[VISCOUS]
+
+
+@jit
+def maxwell_slip_trial_step(scalars, table, state, out, keep, step, displacement, step_velocity,
+                            sample_velocity, normal_load):
+    """The read-only trial (:func:`polind.kernels.contract.no_trial`) of Maxwell-slip.
+
+    ``(F, tangent, written)``: the force :func:`maxwell_slip_step` returns
+    and ``maxwell_slip_tangent`` of the state it leaves, in one pass
+    over the elements; with ``keep`` the new element forces go to ``out``.
+    """
+    stiffness = table[ELEMENT_STIFFNESS]
+    capacity = table[ELEMENT_CAPACITY]
+    total = 0.0
+    elastic = 0.0
+    written = 0
+    if keep:
+        written = state.shape[0]
+        for i in range(state.shape[0]):
+            force = maxwell_slip_element(state[i], stiffness[i], capacity[i], displacement)
+            out[i] = force
+            total += force
+            elastic += stiffness[i] if abs(force) < capacity[i] else 0.0
+    else:
+        for i in range(state.shape[0]):
+            force = maxwell_slip_element(state[i], stiffness[i], capacity[i], displacement)
+            total += force
+            elastic += stiffness[i] if abs(force) < capacity[i] else 0.0
+    return (total + scalars[VISCOUS] * sample_velocity, step * elastic + scalars[VISCOUS],
+            written)
 
 
 #: Samples a Maxwell-slip motion block cuts at once (:func:`maxwell_slip_block`).
@@ -337,3 +408,51 @@ def gms_force(scalars, table, state, sample_velocity, normal_load):
 def gms_tangent(scalars, table, state, step):
     n = table.shape[1]
     return step * stuck_stiffness(table[ELEMENT_STIFFNESS], state[n:2 * n]) + scalars[VISCOUS]
+
+
+@jit(inline="always")
+def gms_trial_scaled(scalars, table, element_force, slip_direction, out, keep, step,
+                     displacement, step_velocity, sample_velocity, coulomb_force, static_force):
+    """:func:`gms_step_scaled` without storing: ``(F, tangent, written)``.
+
+    The force the step returns and the tangent of the state it leaves
+    (``gms_tangent``'s), in one pass over the elements
+    (:func:`gms_trial_elements`).  With ``keep`` the new element forces and
+    slip directions go to ``out`` (``2 n`` entries, the layout of the
+    state: ``written = 2 n``); a step with zero velocity changes nothing
+    (``written = 0``), so its tangent is the state's own.
+    """
+    stiffness = table[ELEMENT_STIFFNESS]
+    n = element_force.shape[0]
+    written = 0
+    if step_velocity == 0.0:
+        total = element_sum(element_force)
+        stuck = stuck_stiffness(stiffness, slip_direction)
+    else:
+        g = stribeck_curve(step_velocity, coulomb_force, static_force,
+                           scalars[STRIBECK_VELOCITY], scalars[STRIBECK_EXPONENT],
+                           scalars[STRIBECK_SHAPE])
+        if keep:
+            written = 2 * n
+            total, stuck = gms_kept_elements(element_force, slip_direction, stiffness,
+                                             table[ELEMENT_CAPACITY], table[ELEMENT_INVERSE], g,
+                                             sign(step_velocity), displacement,
+                                             -scalars[ATTRACTION] * step / g, out[:n],
+                                             out[n:2 * n])
+        else:
+            total, stuck = gms_trial_elements(element_force, slip_direction, stiffness,
+                                              table[ELEMENT_CAPACITY], table[ELEMENT_INVERSE],
+                                              g, sign(step_velocity), displacement,
+                                              -scalars[ATTRACTION] * step / g)
+    return (total + scalars[VISCOUS] * sample_velocity, step * stuck + scalars[VISCOUS],
+            written)
+
+
+@jit
+def gms_trial_step(scalars, table, state, out, keep, step, displacement, step_velocity,
+                   sample_velocity, normal_load):
+    """The read-only trial of GMS (:func:`polind.kernels.contract.no_trial`)."""
+    n = table.shape[1]
+    return gms_trial_scaled(scalars, table, state[:n], state[n:2 * n], out, keep, step,
+                            displacement, step_velocity, sample_velocity, scalars[COULOMB],
+                            scalars[STATIC])

@@ -25,8 +25,8 @@ GENERATED = KERNELS / "generated"
 MARKER = "# --- template: every line below is copied into each generated module ---\n"
 
 #: Each runner module: the kernel module its functions come from, and each
-#: placeholder's function there (``settled`` defaults to ``step``; ``blocks``
-#: and ``block`` to none).
+#: placeholder's function there (``settled`` defaults to ``step``; ``trial``,
+#: ``blocks`` and ``block`` to none).
 MODELS = {
     "memoryless": ("polind.kernels.static", {
         "step": "memoryless_step", "force": "memoryless_force",
@@ -41,17 +41,19 @@ MODELS = {
     "maxwell_slip": ("polind.kernels.elements", {
         "step": "maxwell_slip_step", "force": "maxwell_slip_force",
         "tangent": "maxwell_slip_tangent", "blocks": "maxwell_slip_blocks",
-        "block": "maxwell_slip_block"}),
+        "block": "maxwell_slip_block", "trial": "maxwell_slip_trial_step"}),
     "gms": ("polind.kernels.elements", {
-        "step": "gms_step", "force": "gms_force", "tangent": "gms_tangent"}),
+        "step": "gms_step", "force": "gms_force", "tangent": "gms_tangent",
+        "trial": "gms_trial_step"}),
     "pol_ind": ("polind.kernels.pol_ind", {
         "step": "pol_ind_step", "force": "pol_ind_force", "tangent": "pol_ind_tangent",
-        "settled": "settled_step"}),
+        "settled": "settled_step", "trial": "pol_ind_trial_step"}),
     "pol_ind_fixed_load": ("polind.kernels.pol_ind", {
-        "step": "fixed_load_step", "force": "fixed_load_force", "tangent": "pol_ind_tangent"}),
+        "step": "fixed_load_step", "force": "fixed_load_force", "tangent": "pol_ind_tangent",
+        "trial": "pol_ind_trial_step"}),
     "pol_ind_plastic": ("polind.kernels.pol_ind_plastic", {
         "step": "plastic_step", "force": "plastic_force", "tangent": "pol_ind_tangent",
-        "settled": "plastic_settled_step"}),
+        "settled": "plastic_settled_step", "trial": "pol_ind_trial_step"}),
 }
 
 _PLACEHOLDERS = ("step", "force", "tangent", "settled")
@@ -79,6 +81,10 @@ def render(name: str) -> str:
     else:
         lines.append("from polind.kernels.contract import no_block as model_block")
         lines.append("from polind.kernels.contract import no_blocks as model_blocks")
+    if "trial" in functions:
+        lines.append(f"from {module} import {functions['trial']} as model_trial")
+    else:
+        lines.append("from polind.kernels.contract import no_trial as model_trial")
     for placeholder in _PLACEHOLDERS:
         lines.append(f"from {module} import {functions[placeholder]} as model_{placeholder}")
     return "\n".join(lines) + "\n" + template_body()
@@ -117,12 +123,13 @@ def _own(functions) -> str | None:
 def _compiled(step, force, tangent):
     """The template compiled for a user's functions (not cached on disk)."""
     from polind.kernels import jit
-    from polind.kernels.contract import no_block, no_blocks
+    from polind.kernels.contract import no_block, no_blocks, no_trial
 
     namespace = {"__name__": "polind.kernels.template_for_" + getattr(step, "__name__", "model"),
                  "jit": functools.partial(jit, cache=False),
                  "model_step": step, "model_force": force, "model_tangent": tangent,
-                 "model_settled": step, "model_blocks": no_blocks, "model_block": no_block}
+                 "model_settled": step, "model_blocks": no_blocks, "model_block": no_block,
+                 "model_trial": no_trial}
     exec(compile(template_body(), str(TEMPLATE), "exec"), namespace)    # noqa: S102
     return SimpleNamespace(**{key: value for key, value in namespace.items()
                               if not key.startswith("__")})

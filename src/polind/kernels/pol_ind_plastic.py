@@ -34,8 +34,8 @@ from polind.kernels.plastic_separation import (CRITICAL_FACTOR, PLASTIC_SCALE, S
 from polind.kernels.pol_ind import (E_STAR, ELEMENT_SCRATCH, G_STAR, LOAD_SLOPE, LOAD_VALUE,
                                     LOWER, N_ROWS, N_SCALARS, RADIUS, SEPARATION,
                                     STATIC_COEFFICIENT, UPPER, area_ratio, force_with,
-                                    load_step_with,
-                                    pol_ind_tangent, set_load_with, settled_step_with, step_with)
+                                    load_step_with, pol_ind_tangent, pol_ind_trial_step,
+                                    set_load_with, settled_step_with, step_with)
 from polind.kernels.separation import predicted_start
 
 __all__ = ["PLASTIC_SURFACE", "N_PLASTIC_SCALARS", "ELEMENT_ASPERITIES", "ELEMENT_RADIUS",

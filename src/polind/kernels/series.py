@@ -51,17 +51,32 @@ from polind.kernels.mount import (CONTACT_POSITION, CONTACT_VELOCITY, FORCE_SCAL
 
 
 @jit(inline="always")
-def contact_trial(step_function, tangent_function, memoryless, mount, scalars, table, state,
-                  scratch, velocity, step, sample_slope, sample_offset, normal_load):
-    """``(F_contact(w), dF/dw)`` of the scaled contact on a copy of ``state`` (in ``scratch``)."""
-    n = state.shape[0]
-    work = scratch[:n]
-    for i in range(n):      # a loop: `work[:] = state` compiles NumPy's shape-error message (5 s)
-        work[i] = state[i]
+def contact_trial(step_function, tangent_function, trial_function, memoryless, mount, scalars,
+                  table, state, scratch, velocity, step, sample_slope, sample_offset,
+                  normal_load, keep):
+    """``(F_contact(w), dF/dw, written)`` of the scaled contact, ``state`` untouched.
+
+    From the model's read-only ``trial_function`` where it answers
+    (:func:`polind.kernels.contract.no_trial`, given ``scratch`` and
+    ``keep``), else from its step on a copy of ``state`` (in ``scratch``)
+    and the tangent there; ``written`` as in
+    :func:`polind.kernels.dynamics.solve_step`.
+    """
     sample_velocity = velocity if memoryless else sample_slope * velocity + sample_offset
-    force = contact_step(step_function, mount, scalars, table, work, step, velocity * step,
-                         velocity, sample_velocity, normal_load)
-    return force, load_ratio(mount, normal_load) * tangent_function(scalars, table, work, step)
+    force, tangent, written = trial_function(scalars, table, state, scratch, keep, step,
+                                             velocity * step, velocity, sample_velocity,
+                                             normal_load)
+    if written < 0:
+        n = state.shape[0]
+        written = n
+        work = scratch[:n]
+        for i in range(n):  # a loop: `work[:] = state` compiles NumPy's shape-error message (5 s)
+            work[i] = state[i]
+        force = step_function(scalars, table, work, step, velocity * step, velocity,
+                              sample_velocity, normal_load)
+        tangent = tangent_function(scalars, table, work, step)
+    return (scaled_force(mount, force, sample_velocity, normal_load),
+            load_ratio(mount, normal_load) * tangent, written)
 
 
 @jit(inline="always")
@@ -84,14 +99,20 @@ def mounted_step_with(spring_trial, step_function, tangent_function, mount, scal
                              step_velocity, sample_velocity, normal_load)
         return force, displacement, step_velocity
     known = mount[SPRING_FORCE] + stiffness * displacement
-    velocity, held = solve_step(
+    velocity, held, trial_force, written = solve_step(
         spring_trial, tangent_function, mount[MEMORYLESS] != 0.0,
         mount[REST_CAPACITY], mount[FORCE_SCALE], mount,
         scalars, table, state, scratch, stiffness * step, known, mount[CONTACT_VELOCITY], step,
-        mount[CONTACT_POSITION], 1.0, 0.0, normal_load)
+        mount[CONTACT_POSITION], 1.0, 0.0, normal_load, True)
     if held:
         return known, 0.0, 0.0
     contact_displacement = velocity * step
+    if written > 0:
+        # The last trial was the accepted step, and kept the state it leaves: take it
+        # rather than step again (its force is the step's, summed in its own loop).
+        for i in range(written):
+            state[i] = scratch[i]
+        return trial_force, contact_displacement, velocity
     force = contact_step(step_function, mount, scalars, table, state, step, contact_displacement,
                          velocity, velocity, normal_load)
     return force, contact_displacement, velocity
@@ -116,13 +137,14 @@ def mounted_commit(mounted_step, mount, scalars, table, state, scratch, step, di
 
 @jit(inline="always")
 def mounted_trial(mounted_step, tangent_function, memoryless, mount, scalars, table, state,
-                  scratch, velocity, step, sample_slope, sample_offset, normal_load):
-    """The body solver's trial of a mounted contact: ``(F(w), dF/dw)`` of the spring and contact.
+                  scratch, velocity, step, sample_slope, sample_offset, normal_load, keep):
+    """The body solver's trial of a mounted contact: ``(F(w), dF/dw, 0)``, spring and contact.
 
     ``mounted_step`` as in :func:`mounted_commit`; ``tangent_function`` is
     the model's.  ``scratch`` holds two states: the trial's and, behind it,
     the spring's solve.  The tangent of the spring (``k_s h``) in series
-    with the contact's.
+    with the contact's.  ``keep`` is not used: the body steps its accepted
+    velocity again (``written`` is 0).
     """
     n = state.shape[0]
     work = scratch[:n]
@@ -137,7 +159,7 @@ def mounted_trial(mounted_step, tangent_function, memoryless, mount, scalars, ta
     if spring < math.inf:
         total = spring + tangent
         tangent = spring * tangent / total if total > 0.0 else 0.0
-    return force, tangent
+    return force, tangent, 0
 
 
 @jit(inline="always")

@@ -10,8 +10,9 @@ functions as arguments in its on-disk cache, so each model has a module of
 *runners*: the functions below, with the model's functions bound as the
 module's globals ``model_step``, ``model_force``, ``model_tangent`` and
 ``model_settled`` (the step the body uses; Pol-Ind's skips its load
-update), and, for a model with a blocked motion path, ``model_blocks`` and
-``model_block``.
+update), ``model_trial`` (the model's read-only trial, or
+:func:`polind.kernels.contract.no_trial`) and, for a model with a blocked
+motion path, ``model_blocks`` and ``model_block``.
 
 Every line below the marker is copied, unchanged, into the module of each
 of polind's models under ``polind.kernels.generated`` by
@@ -29,6 +30,7 @@ shared by the mounted path and the mounted body.
 # Placeholders: a generated module binds these to one model's functions.
 from polind.kernels import jit
 from polind.kernels.contract import no_block as model_block, no_blocks as model_blocks
+from polind.kernels.contract import no_trial as model_trial
 
 model_step = model_force = model_tangent = model_settled = None
 
@@ -124,10 +126,11 @@ def stepper_velocity(buffer, t, v, normal_load):
 
 @jit
 def trial(memoryless, mount, scalars, table, state, scratch, velocity, step, sample_slope,
-          sample_offset, normal_load):
+          sample_offset, normal_load, keep):
     """The body solver's trial: :func:`polind.kernels.dynamics.bare_trial` of the model."""
-    return bare_trial(model_settled, model_tangent, memoryless, mount, scalars, table, state,
-                      scratch, velocity, step, sample_slope, sample_offset, normal_load)
+    return bare_trial(model_settled, model_tangent, model_trial, memoryless, mount, scalars,
+                      table, state, scratch, velocity, step, sample_slope, sample_offset,
+                      normal_load, keep)
 
 
 @jit
@@ -187,10 +190,11 @@ def body_buffer(buffer, normal_load, applied_force):
 
 @jit
 def spring_trial(memoryless, mount, scalars, table, state, scratch, velocity, step,
-                 sample_slope, sample_offset, normal_load):
+                 sample_slope, sample_offset, normal_load, keep):
     """The spring's solve's trial: :func:`polind.kernels.series.contact_trial` of the model."""
-    return contact_trial(model_step, model_tangent, memoryless, mount, scalars, table, state,
-                         scratch, velocity, step, sample_slope, sample_offset, normal_load)
+    return contact_trial(model_step, model_tangent, model_trial, memoryless, mount, scalars,
+                         table, state, scratch, velocity, step, sample_slope, sample_offset,
+                         normal_load, keep)
 
 
 @jit
@@ -213,10 +217,11 @@ def mounted_path(mount, scalars, table, state, scratch, step_length, displacemen
 
 @jit
 def mounted_body_trial(memoryless, mount, scalars, table, state, scratch, velocity, step,
-                       sample_slope, sample_offset, normal_load):
+                       sample_slope, sample_offset, normal_load, keep):
     """The body solver's trial of the mounted contact (:func:`polind.kernels.series.mounted_trial`)."""
     return mounted_trial(mounted_step, model_tangent, memoryless, mount, scalars, table, state,
-                         scratch, velocity, step, sample_slope, sample_offset, normal_load)
+                         scratch, velocity, step, sample_slope, sample_offset, normal_load,
+                         keep)
 
 
 @jit

@@ -6,6 +6,7 @@ Do not edit: ``python -m polind.kernels.generate`` writes this file again.
 from polind.kernels import jit
 from polind.kernels.elements import maxwell_slip_blocks as model_blocks
 from polind.kernels.elements import maxwell_slip_block as model_block
+from polind.kernels.elements import maxwell_slip_trial_step as model_trial
 from polind.kernels.elements import maxwell_slip_step as model_step
 from polind.kernels.elements import maxwell_slip_force as model_force
 from polind.kernels.elements import maxwell_slip_tangent as model_tangent
@@ -101,10 +102,11 @@ def stepper_velocity(buffer, t, v, normal_load):
 
 @jit
 def trial(memoryless, mount, scalars, table, state, scratch, velocity, step, sample_slope,
-          sample_offset, normal_load):
+          sample_offset, normal_load, keep):
     """The body solver's trial: :func:`polind.kernels.dynamics.bare_trial` of the model."""
-    return bare_trial(model_settled, model_tangent, memoryless, mount, scalars, table, state,
-                      scratch, velocity, step, sample_slope, sample_offset, normal_load)
+    return bare_trial(model_settled, model_tangent, model_trial, memoryless, mount, scalars,
+                      table, state, scratch, velocity, step, sample_slope, sample_offset,
+                      normal_load, keep)
 
 
 @jit
@@ -164,10 +166,11 @@ def body_buffer(buffer, normal_load, applied_force):
 
 @jit
 def spring_trial(memoryless, mount, scalars, table, state, scratch, velocity, step,
-                 sample_slope, sample_offset, normal_load):
+                 sample_slope, sample_offset, normal_load, keep):
     """The spring's solve's trial: :func:`polind.kernels.series.contact_trial` of the model."""
-    return contact_trial(model_step, model_tangent, memoryless, mount, scalars, table, state,
-                         scratch, velocity, step, sample_slope, sample_offset, normal_load)
+    return contact_trial(model_step, model_tangent, model_trial, memoryless, mount, scalars,
+                         table, state, scratch, velocity, step, sample_slope, sample_offset,
+                         normal_load, keep)
 
 
 @jit
@@ -190,10 +193,11 @@ def mounted_path(mount, scalars, table, state, scratch, step_length, displacemen
 
 @jit
 def mounted_body_trial(memoryless, mount, scalars, table, state, scratch, velocity, step,
-                       sample_slope, sample_offset, normal_load):
+                       sample_slope, sample_offset, normal_load, keep):
     """The body solver's trial of the mounted contact (:func:`polind.kernels.series.mounted_trial`)."""
     return mounted_trial(mounted_step, model_tangent, memoryless, mount, scalars, table, state,
-                         scratch, velocity, step, sample_slope, sample_offset, normal_load)
+                         scratch, velocity, step, sample_slope, sample_offset, normal_load,
+                         keep)
 
 
 @jit
