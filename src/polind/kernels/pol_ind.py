@@ -466,11 +466,28 @@ def fixed_load_step(scalars, table, state, step, displacement, step_velocity, sa
     that load, bit for bit.  Both the Hertzian and the elastic-plastic
     arrays serve it (the plastic ones extend the Hertzian layout).
     """
-    return settled_step_with(load_unchanged, scalars, table, state, step, displacement,
-                             step_velocity, sample_velocity, normal_load)
+    # settled_step_with(load_unchanged, ...) written out: numba copies an inlined
+    # function's whole expanded body at each level it is inlined through, and this level
+    # cost a quarter of the step's compilation.
+    if normal_load != scalars[CURRENT_LOAD]:
+        load_unchanged(scalars, table, state, normal_load)
+    elif scalars[TABLE_STALE] != 0.0:
+        refresh_shares(scalars, table)
+    n = table.shape[1]
+    return gms_step_scaled(scalars, table, state[:n], state[n:2 * n], step, displacement,
+                           step_velocity, sample_velocity,
+                           scalars[KINETIC_COEFFICIENT] * normal_load,
+                           scalars[STATIC_COEFFICIENT] * normal_load)
 
 
 @jit
 def fixed_load_force(scalars, table, state, sample_velocity, normal_load):
-    """``pol_ind_force`` of a run at the table's own constant load (see :func:`fixed_load_step`)."""
-    return force_with(load_unchanged, scalars, table, state, sample_velocity, normal_load)
+    """``pol_ind_force`` of a run at the table's own constant load (see :func:`fixed_load_step`).
+
+    :func:`polind.kernels.elements.gms_force` written out, not called: a fixed-load
+    run compiles no other function that calls it, and its own compilation cost a
+    quarter of a second.
+    """
+    if normal_load != scalars[CURRENT_LOAD]:
+        load_unchanged(scalars, table, state, normal_load)
+    return element_sum(state[:table.shape[1]]) + scalars[VISCOUS] * sample_velocity
