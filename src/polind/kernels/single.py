@@ -92,6 +92,13 @@ N_LUGRE_SCALARS = 8
 
 
 @jit(inline="always")
+def _lugre_curve(scalars, velocity):
+    return stribeck_curve(velocity, scalars[LUGRE_COULOMB], scalars[LUGRE_STATIC],
+                          scalars[LUGRE_STRIBECK_VELOCITY], scalars[LUGRE_STRIBECK_EXPONENT],
+                          scalars[LUGRE_STRIBECK_SHAPE])
+
+
+@jit(inline="always")
 def lugre_relaxation(stiffness, velocity, g):
     """``(z_ss, r)``: the steady deflection ``sgn(v) g / sigma0`` and the rate ``sigma0 |v| / g``.
 
@@ -107,18 +114,18 @@ def lugre_output(z, velocity, rate, stiffness, damping, viscous):
     return stiffness * z + damping * (velocity - rate * z) + viscous * velocity
 
 
-# The kernels below call stribeck_curve with the scalars' slots themselves: each level of
-# inlined helpers is a copy of the whole expanded body for numba (compilation time).
+@jit(inline="always")
+def _lugre_force_at(scalars, z, velocity):
+    """The output at a sample's velocity (its own curve and rate)."""
+    stiffness = scalars[LUGRE_STIFFNESS]
+    steady, rate = lugre_relaxation(stiffness, velocity, _lugre_curve(scalars, velocity))
+    return lugre_output(z, velocity, rate, stiffness, scalars[LUGRE_DAMPING],
+                        scalars[LUGRE_VISCOUS])
+
+
 @jit
 def lugre_force(scalars, table, state, sample_velocity, normal_load):
-    """The output at the state and a sample's velocity (its own curve and rate)."""
-    stiffness = scalars[LUGRE_STIFFNESS]
-    g = stribeck_curve(sample_velocity, scalars[LUGRE_COULOMB], scalars[LUGRE_STATIC],
-                       scalars[LUGRE_STRIBECK_VELOCITY], scalars[LUGRE_STRIBECK_EXPONENT],
-                       scalars[LUGRE_STRIBECK_SHAPE])
-    steady, rate = lugre_relaxation(stiffness, sample_velocity, g)
-    return lugre_output(state[0], sample_velocity, rate, stiffness, scalars[LUGRE_DAMPING],
-                        scalars[LUGRE_VISCOUS])
+    return _lugre_force_at(scalars, state[0], sample_velocity)
 
 
 @jit
@@ -132,17 +139,12 @@ def lugre_step(scalars, table, state, step, displacement, step_velocity, sample_
     """
     z = state[0]
     stiffness = scalars[LUGRE_STIFFNESS]
-    g = stribeck_curve(step_velocity, scalars[LUGRE_COULOMB], scalars[LUGRE_STATIC],
-                       scalars[LUGRE_STRIBECK_VELOCITY], scalars[LUGRE_STRIBECK_EXPONENT],
-                       scalars[LUGRE_STRIBECK_SHAPE])
-    steady, rate = lugre_relaxation(stiffness, step_velocity, g)
+    steady, rate = lugre_relaxation(stiffness, step_velocity, _lugre_curve(scalars, step_velocity))
     if step_velocity != 0.0:
         z = steady + (z - steady) * exact_exp(-rate * step)
         state[0] = z
     if sample_velocity != step_velocity:   # with x given they are equal: one curve, not two
-        # lugre_force: the output at state[0] = z, called (every runner compiles it anyway),
-        # not inlined a second time here.
-        return lugre_force(scalars, table, state, sample_velocity, normal_load)
+        return _lugre_force_at(scalars, z, sample_velocity)
     return lugre_output(z, sample_velocity, rate, stiffness, scalars[LUGRE_DAMPING],
                         scalars[LUGRE_VISCOUS])
 
