@@ -435,7 +435,7 @@ def force_with(set_load_function, scalars, table, state, sample_velocity, normal
 
 @jit
 def pol_ind_tangent(scalars, table, state, step):
-    """:func:`polind.kernels.elements.gms_tangent`, written out.
+    """The tangent of ``polind.kernels.elements.gms_tangent``, written out.
 
     Called, it was a second compiled function for the one sum (about a third
     of a second of a cold process).
@@ -490,7 +490,7 @@ def fixed_load_step(scalars, table, state, step, displacement, step_velocity, sa
 def fixed_load_force(scalars, table, state, sample_velocity, normal_load):
     """``pol_ind_force`` of a run at the table's own constant load (see :func:`fixed_load_step`).
 
-    :func:`polind.kernels.elements.gms_force` written out, not called: a fixed-load
+    ``polind.kernels.elements.gms_force`` written out, not called: a fixed-load
     run compiles no other function that calls it, and its own compilation cost a
     quarter of a second.
     """
