@@ -216,3 +216,23 @@ def test_a_missing_contact_key_is_named(table, key):
     del (params if table is None else params[table])[key]
     with pytest.raises(InputError, match=f"Missing key '{key if table is None else f'{table}.{key}'}'"):
         build_contact(params)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_the_tables_numpy_properties_are_the_kernels_to_the_bit(seed):
+    # The table is built with NumPy (no compilation); the kernels re-evaluate it at a new
+    # load with element_properties: the same bits, or a run would jump at its first load.
+    from polind.contact.elements import _hertz_properties
+
+    rng = np.random.default_rng(seed)
+    heights = rng.normal(0.0, 5e-7, 500)
+    counts = rng.uniform(0.0, 1e6, 500)
+    d = float(rng.normal(0.0, 5e-7))
+    moduli = (float(rng.uniform(5e-5, 1e-4)), 1.15e11 * rng.uniform(0.5, 2.0),
+              2.4e10 * rng.uniform(0.5, 2.0), float(rng.uniform(0.05, 0.5)))
+    numpy_k, numpy_W, kernel_k, kernel_W = (np.full(500, np.nan) for _ in range(4))
+    _hertz_properties(heights, counts, d, *moduli, numpy_k, numpy_W)
+    element_properties(heights, counts, d, *moduli, kernel_k, kernel_W)
+    assert 0 < np.count_nonzero(numpy_k) < 500
+    assert numpy_k.tobytes() == kernel_k.tobytes()
+    assert numpy_W.tobytes() == kernel_W.tobytes()

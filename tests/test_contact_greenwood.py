@@ -100,6 +100,10 @@ def test_scalar_fast_path_matches_the_array_path():
     pairs = np.array([half_integer_pair(x) for x in s])
     np.testing.assert_allclose(pairs[:, 0], gw_integral(0.5, s), rtol=1e-13)
     np.testing.assert_allclose(pairs[:, 1], gw_integral(1.5, s), rtol=1e-13)
+    # A scalar s runs the scalar pair: the array path's values, to the bit.
+    for m in (0.5, 1.5):
+        assert [gw_integral(m, x) for x in s] == gw_integral(m, s).tolist()
+        assert [gw_integral(m, np.float64(x)) for x in s[::30]] == gw_integral(m, s[::30]).tolist()
 
 
 def test_shapes_scalars_and_infinities():

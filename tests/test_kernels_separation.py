@@ -292,6 +292,10 @@ def test_newton_meets_the_tolerance_and_is_the_python_iteration(statistical, dir
             # Step for step the iteration written out in Python.
             assert (d, value, slope, evaluations) == python_newton(surface, load, start, lo, hi)
             assert newton_separation(load, start, lo, hi, *arguments) == (d, value, slope)
+            # The one kind's solver (what solve_separation runs) is the same, to the bit.
+            own = kernels.statistical_newton_counted if kind == "statistical" else \
+                kernels.direct_newton_counted
+            assert own(load, start, lo, hi, *arguments) == (d, value, slope, evaluations)
             # The Python API runs the same kernel.
             assert solve_separation(surface, load, start, full_output=True) == (d, evaluations)
 

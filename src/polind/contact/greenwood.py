@@ -144,6 +144,10 @@ def gw_integral(m, s):
         value = _upper_tail(s_array)
     elif order == 1.0:
         value = _first_moment(s_array)
+    elif s_array.ndim == 0:
+        # One float: the scalar pair, which the separation solver compiles anyway (a
+        # process that asks one load of a surface need not compile the array loop too).
+        value = half_integer_pair(float(s_array))[0 if order == 0.5 else 1]
     else:
         # The compiled pair at every element (polind.kernels.greenwood).
         f_half, f_three_halves = gw_half_integer_pairs(np.ravel(s_array), _addresses())
@@ -155,8 +159,12 @@ def gw_integral(m, s):
 def _log_three_halves_table() -> tuple[np.ndarray, np.ndarray]:
     """``log F_{3/2}`` on a grid over a little more than :data:`VALID_RANGE`, increasing."""
     grid = np.linspace(VALID_RANGE[0] - 1.0, VALID_RANGE[1] + 1.0, 321)
+    # gw_integral(1.5, grid) point by point: the scalar pair is the one the separation
+    # solver compiles anyway, so a process that solves one separation (every Pol-Ind
+    # model's first run) does not compile the array loop as well; the same bits.
+    values = np.array([half_integer_pair(float(s))[1] for s in grid])
     # Reversed so that the tabulated values increase, as np.interp needs.
-    return np.log(gw_integral(1.5, grid))[::-1].copy(), grid[::-1].copy()
+    return np.log(values)[::-1].copy(), grid[::-1].copy()
 
 
 def three_halves_inverse(value: float) -> float:

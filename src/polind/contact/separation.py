@@ -234,7 +234,10 @@ def solve_separation(surface, normal_load, initial=None, *, full_output=False):
     arguments = _kernel_surface(surface)
     lo, hi = _lower_bound(surface, load, arguments), surface.separation_range[1]
     start = _initial_guess(surface, load, lo, hi) if initial is None else _checked_initial(initial)
-    d, _, _, evaluations = _kernels.newton_separation_counted(load, start, lo, hi, *arguments)
+    # One kind's solver: newton_separation_counted's results, without compiling the other kind.
+    solver = (_kernels.statistical_newton_counted if surface.kind == "statistical"
+              else _kernels.direct_newton_counted)
+    d, _, _, evaluations = solver(load, start, lo, hi, *arguments)
     return (d, evaluations) if full_output else d
 
 

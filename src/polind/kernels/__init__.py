@@ -23,7 +23,11 @@ from polind.kernels import cache as _cache
 _cache.install()
 
 FASTMATH = frozenset({"reassoc", "nsz"})
-JIT_OPTIONS = {"cache": True, "nogil": True, "fastmath": set(FASTMATH), "error_model": "numpy"}
+# no_cfunc_wrapper: numba otherwise compiles, with every kernel, a C-callable wrapper that
+# only a first-class function value (a kernel passed where a function type is expected)
+# calls; polind passes none, and the wrappers cost a few percent of a cold compilation.
+JIT_OPTIONS = {"cache": True, "nogil": True, "fastmath": set(FASTMATH), "error_model": "numpy",
+               "no_cfunc_wrapper": True}
 
 
 def jit(function=None, **overrides):

@@ -57,7 +57,7 @@ from polind.kernels.elements import (ATTRACTION, ELEMENT_CAPACITY, ELEMENT_INVER
                                      ELEMENT_STIFFNESS, STRIBECK_EXPONENT, STRIBECK_SHAPE,
                                      STRIBECK_VELOCITY, VISCOUS, element_properties,
                                      element_sum, gms_element, gms_force, gms_step_scaled,
-                                     gms_tangent, gms_trial_scaled)
+                                     gms_trial_scaled, stuck_stiffness)
 from polind.kernels.separation import (DIRECT, direct_lower_bound, newton_separation,
                                        predicted_start, statistical_separation_only)
 from polind.kernels.special import IVE, KVE
@@ -445,7 +445,13 @@ def force_with(set_load_function, scalars, table, state, sample_velocity, normal
 
 @jit
 def pol_ind_tangent(scalars, table, state, step):
-    return gms_tangent(scalars, table, state, step)
+    """The tangent of ``polind.kernels.elements.gms_tangent``, written out.
+
+    Called, it was a second compiled function for the one sum (about a third
+    of a second of a cold process).
+    """
+    n = table.shape[1]
+    return step * stuck_stiffness(table[ELEMENT_STIFFNESS], state[n:2 * n]) + scalars[VISCOUS]
 
 
 @jit
@@ -502,11 +508,28 @@ def fixed_load_step(scalars, table, state, step, displacement, step_velocity, sa
     that load, bit for bit.  Both the Hertzian and the elastic-plastic
     arrays serve it (the plastic ones extend the Hertzian layout).
     """
-    return settled_step_with(load_unchanged, scalars, table, state, step, displacement,
-                             step_velocity, sample_velocity, normal_load)
+    # settled_step_with(load_unchanged, ...) written out: numba copies an inlined
+    # function's whole expanded body at each level it is inlined through, and this level
+    # cost a quarter of the step's compilation.
+    if normal_load != scalars[CURRENT_LOAD]:
+        load_unchanged(scalars, table, state, normal_load)
+    elif scalars[TABLE_STALE] != 0.0:
+        refresh_shares(scalars, table)
+    n = table.shape[1]
+    return gms_step_scaled(scalars, table, state[:n], state[n:2 * n], step, displacement,
+                           step_velocity, sample_velocity,
+                           scalars[KINETIC_COEFFICIENT] * normal_load,
+                           scalars[STATIC_COEFFICIENT] * normal_load)
 
 
 @jit
 def fixed_load_force(scalars, table, state, sample_velocity, normal_load):
-    """``pol_ind_force`` of a run at the table's own constant load (see :func:`fixed_load_step`)."""
-    return force_with(load_unchanged, scalars, table, state, sample_velocity, normal_load)
+    """``pol_ind_force`` of a run at the table's own constant load (see :func:`fixed_load_step`).
+
+    ``polind.kernels.elements.gms_force`` written out, not called: a fixed-load
+    run compiles no other function that calls it, and its own compilation cost a
+    quarter of a second.
+    """
+    if normal_load != scalars[CURRENT_LOAD]:
+        load_unchanged(scalars, table, state, normal_load)
+    return element_sum(state[:table.shape[1]]) + scalars[VISCOUS] * sample_velocity

@@ -15,7 +15,9 @@ functions of :mod:`polind.kernels.greenwood`:
   bracket, bisection when a step leaves it, stopping at
   ``|N(d) - N_app| <= 1e-10 N_app`` (statistical surface: ``0.9e-10``, see
   :data:`STATISTICAL_STOP`), returning the best ``d`` seen if the bracket
-  shrinks to adjacent doubles; :func:`statistical_start` is the start for a
+  shrinks to adjacent doubles (:func:`statistical_newton_counted` and
+  :func:`direct_newton_counted`: the same for one kind, compiled without the
+  other's load); :func:`statistical_start` is the start for a
   statistical surface (the inverse polynomials of ``F_{3/2}``,
   :func:`~polind.kernels.greenwood.inverse_at`, accurate enough that the
   first evaluation meets the tolerance), :func:`predicted_start` the warm
@@ -79,6 +81,8 @@ __all__ = [
     "statistical_separation_only",
     "newton_separation",
     "newton_separation_counted",
+    "statistical_newton_counted",
+    "direct_newton_counted",
     "newton_separation_series",
 ]
 
@@ -268,20 +272,16 @@ def predicted_start(d, value, slope, load):
     return d
 
 
-@jit(fastmath=False)
-def newton_separation_counted(load, start, lo, hi, kind, load_scale, height_std, heights, counts, hertz,
-                              addresses):
-    """:func:`newton_separation` that also returns the number of load evaluations.
+@jit(inline="always")
+def _newton_counted(load_and_slope, stop, load, start, lo, hi, kind, load_scale, height_std,
+                    heights, counts, hertz, addresses):
+    """The iteration of :func:`newton_separation_counted` on ``load_and_slope``, stopping at ``stop N_app``.
 
-    Returns
-    -------
-    d, value, slope : float
-        As :func:`newton_separation`.
-    evaluations : int
-        Load evaluations used (1 if ``start`` already meets the tolerance).
+    ``load_and_slope`` takes ``(d, kind, load_scale, height_std, heights,
+    counts, hertz, addresses)`` (:func:`surface_load_and_slope` or one
+    kind's :func:`_statistical_surface`, :func:`_direct_surface`).
     """
-    # The fast statistical N(d) stops short of the tolerance (STATISTICAL_STOP).
-    tolerance = (STATISTICAL_STOP if kind == STATISTICAL else RELATIVE_TOLERANCE) * load
+    tolerance = stop * load
     # log(load) only once a Newton step is needed (a good start needs none).
     log_load = math.nan
     # Clamp as Python's min(max(start, lo), hi) does.
@@ -296,8 +296,8 @@ def newton_separation_counted(load, start, lo, hi, kind, load_scale, height_std,
     best_slope = math.nan
     iteration = 0
     for iteration in range(1, MAX_ITERATIONS + 1):
-        value, slope = surface_load_and_slope(d, kind, load_scale, height_std, heights, counts, hertz,
-                                              addresses)
+        value, slope = load_and_slope(d, kind, load_scale, height_std, heights, counts, hertz,
+                                      addresses)
         error = abs(value - load)
         if error < best_error:
             best_d = d
@@ -326,6 +326,65 @@ def newton_separation_counted(load, start, lo, hi, kind, load_scale, height_std,
             break
         d = candidate
     return best_d, best_value, best_slope, iteration
+
+
+@jit(inline="always")
+def _statistical_surface(d, kind, load_scale, height_std, heights, counts, hertz, addresses):
+    """:func:`statistical_load_and_slope` with the arguments of :func:`surface_load_and_slope`."""
+    return statistical_load_and_slope(d, load_scale, height_std, addresses)
+
+
+@jit(inline="always")
+def _direct_surface(d, kind, load_scale, height_std, heights, counts, hertz, addresses):
+    """:func:`direct_load_and_slope` with the arguments of :func:`surface_load_and_slope`."""
+    return direct_load_and_slope(d, heights, counts, hertz)
+
+
+@jit(fastmath=False)
+def statistical_newton_counted(load, start, lo, hi, kind, load_scale, height_std, heights, counts,
+                               hertz, addresses):
+    """:func:`newton_separation_counted` of a statistical surface (``kind`` is not read).
+
+    The same iteration, stops and results, to the bit, compiled without the
+    direct surface's sums: what :func:`polind.contact.separation.solve_separation`
+    runs for a statistical surface, so that a process solving one compiles
+    one kind.
+    """
+    # The fast statistical N(d) stops short of the tolerance (STATISTICAL_STOP).
+    return _newton_counted(_statistical_surface, STATISTICAL_STOP, load, start, lo, hi, kind,
+                           load_scale, height_std, heights, counts, hertz, addresses)
+
+
+@jit(fastmath=False)
+def direct_newton_counted(load, start, lo, hi, kind, load_scale, height_std, heights, counts,
+                          hertz, addresses):
+    """:func:`newton_separation_counted` of a direct surface (``kind`` is not read).
+
+    As :func:`statistical_newton_counted`, without the statistical surface's pair.
+    """
+    return _newton_counted(_direct_surface, RELATIVE_TOLERANCE, load, start, lo, hi, kind,
+                           load_scale, height_std, heights, counts, hertz, addresses)
+
+
+@jit(fastmath=False)
+def newton_separation_counted(load, start, lo, hi, kind, load_scale, height_std, heights, counts, hertz,
+                              addresses):
+    """:func:`newton_separation` that also returns the number of load evaluations.
+
+    :func:`statistical_newton_counted` or :func:`direct_newton_counted` by ``kind``.
+
+    Returns
+    -------
+    d, value, slope : float
+        As :func:`newton_separation`.
+    evaluations : int
+        Load evaluations used (1 if ``start`` already meets the tolerance).
+    """
+    if kind == STATISTICAL:
+        return statistical_newton_counted(load, start, lo, hi, kind, load_scale, height_std,
+                                          heights, counts, hertz, addresses)
+    return direct_newton_counted(load, start, lo, hi, kind, load_scale, height_std, heights,
+                                 counts, hertz, addresses)
 
 
 @jit(fastmath=False)
@@ -444,9 +503,9 @@ def statistical_separation_at(load, lo, hi, load_scale, height_std, kve_address,
     # Empty summit arrays made here: a global array is a read-only constant to numba,
     # a type of its own (another compile of the solver).
     no_summits = np.empty(0)
-    d, value, slope, evaluations = newton_separation_counted(load, d, lo, hi, STATISTICAL, load_scale,
-                                                             height_std, no_summits, no_summits, 0.0,
-                                                             addresses)
+    d, value, slope, evaluations = statistical_newton_counted(load, d, lo, hi, STATISTICAL,
+                                                              load_scale, height_std, no_summits,
+                                                              no_summits, 0.0, addresses)
     return d, value, slope, 1 + evaluations
 
 

@@ -158,7 +158,7 @@ def lugre_tangent(scalars, table, state, step):
 LUGRE_BLOCK = 512
 
 
-@jit
+@jit(inline="always")
 def lugre_blocks(scalars, by_velocity):
     """Whether a motion runs in LuGre's blocks: positions, a Stribeck exponent of 1 or 2."""
     exponent = scalars[LUGRE_STRIBECK_EXPONENT]
@@ -181,7 +181,9 @@ def lugre_block(scalars, table, state, source_t, source_motion, t, motion, veloc
     decay`` and the output (:func:`lugre_output`) alone.  A block with a bad
     sample returns -1 with the state untouched.
     """
-    b = min(a + LUGRE_BLOCK, hi)
+    b = a + LUGRE_BLOCK
+    if b > hi:      # min(a + LUGRE_BLOCK, hi), without compiling numba's min of two ints
+        b = hi
     m = b - a
     t_in, x_in, t_out, x_out, w_out, f_out = block_views(source_t, source_motion, t, motion,
                                                           velocity, out_force, a, b)
