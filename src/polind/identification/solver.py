@@ -6,10 +6,9 @@ starting point of :mod:`polind.identification.starts`; the fit with the
 smallest sum of squares in sample is kept.  The Jacobian is taken by forward
 differences of a fixed step in these variables.  Where one simulation of the
 data takes long enough for threads to pay (:data:`_THREADED_SIMULATION`),
-the starts run side by side on threads, one start a thread (the numba
-kernels release the GIL); a fit from one start simulates its Jacobian's
-columns side by side instead.  Neither changes a result: each start's fit
-is the same computation on any thread.  A trial point whose
+the starts run side by side on threads, and each start's Jacobian columns
+too (the numba kernels release the GIL).  Neither changes a result: each
+start's fit is the same computation on any thread.  A trial point whose
 parameters the model rejects (a load its surface cannot carry, say) or where
 its force is not finite costs a large constant residual, so the solver backs
 off instead of stopping.
@@ -297,8 +296,10 @@ def _fit_from_starts(start, keys, bounds, frees, measured, settings, counter, *,
                      spread, extra_starts, special_cases, pool=None) -> list[_LocalFit]:
     """The local fits from every starting point (:mod:`polind.identification.starts`).
 
-    With a ``pool`` of threads the starts run side by side on it, each start's
-    Jacobian on its own thread; the fits come back in the order of the starts.
+    With a ``pool`` of threads the starts run side by side on it, and each
+    start's Jacobian columns on as many threads again (a start left alone at
+    the end keeps every core busy; while several run, the system shares the
+    cores among their threads); the fits come back in the order of the starts.
     The starting points are made here, on the calling thread: the fit of a
     special case (which runs its own starts on the same pool) happens when its
     start is reached, while the starts before it run.
@@ -307,7 +308,7 @@ def _fit_from_starts(start, keys, bounds, frees, measured, settings, counter, *,
         return _special_case_fit(case, bounds, measured, settings, counter, pool)
 
     problem = _Problem(start, frees, measured, settings, counter,
-                       column_threads=None if pool is None else 1)
+                       column_threads=None if pool is None else _pool_threads(pool))
     fits = []
     pending = []
     try:
@@ -391,7 +392,14 @@ def _start_pool(workers, starts, seconds):
     if count < 2:
         return None
     from concurrent.futures import ThreadPoolExecutor
-    return ThreadPoolExecutor(max_workers=count, thread_name_prefix="polind-fit")
+    pool = ThreadPoolExecutor(max_workers=count, thread_name_prefix="polind-fit")
+    pool.polind_threads = count
+    return pool
+
+
+def _pool_threads(pool) -> int:
+    """The threads of a pool made by :func:`_start_pool`."""
+    return pool.polind_threads
 
 
 def _checked_extra_starts(extra_starts, start) -> dict:
@@ -495,10 +503,9 @@ def identify(model, data, *, free=None, bounds=None, holdout=None, starts=None,
         whose parameters the model rejects (such points cost the solver a
         large constant residual, so it backs off).
     workers : int, optional
-        Threads that run the fit's starts side by side, one start a thread
-        (the numba kernels release the GIL); a fit from one start
-        (``starts=1``) simulates the columns of its finite-difference
-        Jacobian side by side instead.  Default: the number of cores when
+        Threads that run the fit's starts side by side, and each start's
+        finite-difference Jacobian columns (the numba kernels release the
+        GIL).  Default: the number of cores when
         one simulation of the data takes more than 5 ms (a long record,
         Pol-Ind under a varying load); one thread for quicker ones, where the
         threads' overhead and the BLAS's own threads eat the gain.  The
