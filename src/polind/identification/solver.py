@@ -293,11 +293,12 @@ class _Problem:
 
 
 def _fit_from_starts(start, keys, bounds, frees, measured, settings, counter, *, starts,
-                     spread, extra_starts, special_cases, pool=None) -> list[_LocalFit]:
+                     spread, extra_starts, special_cases, pool=None,
+                     threads=1) -> list[_LocalFit]:
     """The local fits from every starting point (:mod:`polind.identification.starts`).
 
-    With a ``pool`` of threads the starts run side by side on it, and each
-    start's Jacobian columns on as many threads again (a start left alone at
+    With a ``pool`` of ``threads`` threads the starts run side by side on it,
+    and each start's Jacobian columns on as many threads again (a start left alone at
     the end keeps every core busy; while several run, the system shares the
     cores among their threads); the fits come back in the order of the starts.
     The starting points are made here, on the calling thread: the fit of a
@@ -305,10 +306,10 @@ def _fit_from_starts(start, keys, bounds, frees, measured, settings, counter, *,
     start is reached, while the starts before it run.
     """
     def fit_special_case(case):
-        return _special_case_fit(case, bounds, measured, settings, counter, pool)
+        return _special_case_fit(case, bounds, measured, settings, counter, pool, threads)
 
     problem = _Problem(start, frees, measured, settings, counter,
-                       column_threads=None if pool is None else _pool_threads(pool))
+                       column_threads=None if pool is None else threads)
     fits = []
     pending = []
     try:
@@ -328,7 +329,7 @@ def _fit_from_starts(start, keys, bounds, frees, measured, settings, counter, *,
     return [local for local in fits if local is not None]
 
 
-def _special_case_fit(case, bounds, measured, settings, counter, pool=None):
+def _special_case_fit(case, bounds, measured, settings, counter, pool=None, threads=1):
     """The fitted contained model of a special case, or None where it cannot be fitted.
 
     Its free keys are ``case.free``; it keeps the containing fit's bounds of
@@ -351,22 +352,22 @@ def _special_case_fit(case, bounds, measured, settings, counter, pool=None):
         return None
     fits = _fit_from_starts(start, keys, given, frees, measured, settings, counter,
                             starts=None, spread=0, extra_starts=None, special_cases=False,
-                            pool=pool)
+                            pool=pool, threads=threads)
     if not fits:
         return None
     best = min(fits, key=lambda local: local.rss)
     return model_at(start, frees, best.u)
 
 
-def _simulation_seconds(start, measured: MeasuredData) -> float:
+def _simulation_seconds(start, measured: MeasuredData, retime: bool) -> float:
     """The time of one simulation of the data [s]; InputError where the start's force is not finite.
 
-    The first simulation may include compiling the model's kernels: one that
-    looks long enough for threads (:data:`_THREADED_SIMULATION`) is timed
-    again.
+    The first simulation may include compiling the model's kernels: with
+    ``retime``, one that looks long enough for threads
+    (:data:`_THREADED_SIMULATION`) is timed again.
     """
     seconds = math.inf
-    for _ in range(2):
+    for _ in range(2 if retime else 1):
         clock = time.perf_counter()
         force = measured.simulate(start)
         seconds = time.perf_counter() - clock
@@ -378,28 +379,17 @@ def _simulation_seconds(start, measured: MeasuredData) -> float:
     return seconds
 
 
-def _start_pool(workers, starts, seconds):
-    """The threads the starts run on side by side, or None (one start, or quick simulations).
+def _start_threads(workers, starts, seconds) -> int:
+    """The threads the starts run on side by side; 1 for none (one start, or quick simulations).
 
-    ``workers`` threads when given (more than one), else one per core when a
-    simulation takes at least :data:`_THREADED_SIMULATION`.  A fit from one
-    start (``starts=1``) threads its Jacobian's columns instead.
+    ``workers`` threads when given, else one per core when a simulation takes
+    at least :data:`_THREADED_SIMULATION`.  A fit from one start
+    (``starts=1``) threads only its Jacobian's columns (:class:`_Problem`).
     """
     if starts == 1:
-        return None
+        return 1
     tasks = (os.cpu_count() or 1) if workers is None else workers
-    count = _worker_count(workers, tasks, seconds)
-    if count < 2:
-        return None
-    from concurrent.futures import ThreadPoolExecutor
-    pool = ThreadPoolExecutor(max_workers=count, thread_name_prefix="polind-fit")
-    pool.polind_threads = count
-    return pool
-
-
-def _pool_threads(pool) -> int:
-    """The threads of a pool made by :func:`_start_pool`."""
-    return pool.polind_threads
+    return _worker_count(workers, tasks, seconds)
 
 
 def _checked_extra_starts(extra_starts, start) -> dict:
@@ -573,10 +563,14 @@ def identify(model, data, *, free=None, bounds=None, holdout=None, starts=None,
         raise InputError(f"Identification of {n_variables} parameter values needs more samples "
                          f"than that. Got {measured.size} samples of 't'"
                          + ("." if fitted_samples is None else " in the fitted part."))
-    seconds = _simulation_seconds(start, measured)
+    seconds = _simulation_seconds(start, measured, retime=starts != 1 and workers is None)
     settings = _Settings(max_evaluations, tolerance, diff_step, x_scale, workers)
     counter = _Counter(callback)
-    pool = _start_pool(workers, starts, seconds)
+    threads = _start_threads(workers, starts, seconds)
+    pool = None
+    if threads > 1:
+        from concurrent.futures import ThreadPoolExecutor
+        pool = ThreadPoolExecutor(max_workers=threads, thread_name_prefix="polind-fit")
     try:
         with warnings.catch_warnings():
             # A trial model's validity is no news (a fit tries hundreds): the fitted model's
@@ -585,7 +579,7 @@ def identify(model, data, *, free=None, bounds=None, holdout=None, starts=None,
             fits = _fit_from_starts(start, keys, given_bounds, frees, measured, settings,
                                     counter, starts=starts, spread=DEFAULT_SPREAD_STARTS,
                                     extra_starts=_checked_extra_starts(extra_starts, start),
-                                    special_cases=True, pool=pool)
+                                    special_cases=True, pool=pool, threads=threads)
     finally:
         if pool is not None:
             pool.shutdown(cancel_futures=True)
