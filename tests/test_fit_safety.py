@@ -488,8 +488,78 @@ def test_a_start_stops_once_an_iteration_gains_less_than_a_hundredth_of_the_nois
     stopped = quiet(identify, start, data, starts=1)
     assert stopped.success and stopped.message == solver.NOISE_STOP
     monkeypatch.setattr(solver, "NOISE_SHARE", 0.0)
-    onwards = quiet(identify, start, data, starts=1)
+    monkeypatch.setattr(solver, "STEP_SHARE", 0.0)    # on a smooth sum of squares it ends
+    onwards = quiet(identify, start, data, starts=1)  # the fit together with the noise rule
     assert onwards.message != solver.NOISE_STOP
     assert stopped.evaluations < onwards.evaluations
     for key, value in onwards.values.items():
         assert abs(stopped.values[key] - value) < 0.1 * onwards.standard_errors[key], key
+
+
+def rough_fit_case():
+    """Pol-Ind (64 height bins) behind a rig spring on the first 4,000 samples of the real
+    record, four values free: the spring's solve puts kinks into the sum of squares."""
+    record = datasets.tribometer()
+    data = {key: np.asarray(values)[:4000] for key, values in record.items()}
+    level = float(np.percentile(np.abs(data["F"]), 90))
+    load = float(np.median(data["normal_load"]))
+    table = default_table()
+    table.update(normal_load=load, static_coefficient=1.05 * level / load,
+                 kinetic_coefficient=level / load, stribeck_velocity=1e-4, attraction=10.0)
+    table["discretisation"] = {"summation": "statistical", "elements": 64}
+    table["compliance"] = {"stiffness": level / (0.4 * float(np.ptp(data["x"])))}
+    free = ["static_coefficient", "kinetic_coefficient", "attraction", "compliance.stiffness"]
+    return model(table), data, free, {"compliance.stiffness": [1e3, 1e7]}
+
+
+def test_a_start_stops_once_its_step_moves_the_force_by_less_than_a_tenth_of_the_noise(
+        monkeypatch):
+    """The step rule of the solver: on a rough sum of squares the steps shrink below the
+    data's resolution while kinks still lower it now and then; the rule ends the fit there,
+    within a tenth of a standard error of where the fit ends without it."""
+    from polind.identification import solver
+
+    start, data, free, bounds = rough_fit_case()
+    stopped = quiet(identify, start, data, free=free, bounds=bounds, starts=1)
+    assert stopped.success and stopped.message == solver.STEP_STOP
+    monkeypatch.setattr(solver, "STEP_SHARE", 0.0)
+    onwards = quiet(identify, start, data, free=free, bounds=bounds, starts=1)
+    assert onwards.message != solver.STEP_STOP
+    assert stopped.evaluations < onwards.evaluations
+    for key, value in onwards.values.items():
+        assert abs(stopped.values[key] - value) < 0.1 * stopped.standard_errors[key], key
+    assert stopped.rms_error < 1.001 * onwards.rms_error
+
+
+def test_only_the_fit_kept_takes_the_jacobian_where_a_stop_rule_ended_it(monkeypatch):
+    """A start ended by a stop rule does not take the Jacobian at its solution; the fit kept
+    takes it afterwards, once, and its standard errors are those of that Jacobian."""
+    from polind.identification import solver
+
+    start, data, free, bounds = rough_fit_case()
+    taken, ends = [], []
+    jacobian, solve = solver._Problem.jacobian, solver._Problem.solve
+
+    def recording_jacobian(self, u, base, columns):
+        taken.append(np.array(u))
+        return jacobian(self, u, base, columns)
+
+    def recording_solve(self, label, u0):
+        local = solve(self, label, u0)
+        ends.append(local)
+        return local
+
+    monkeypatch.setattr(solver._Problem, "jacobian", recording_jacobian)
+    monkeypatch.setattr(solver._Problem, "solve", recording_solve)
+    fit = quiet(identify, start, data, free=free, bounds=bounds, starts=2, workers=1)
+    # Two starts of the model (its values, the fitted special case) and two of the special
+    # case's own fit (two variables).
+    mine = [local for local in ends if local.u.size == len(free)]
+    assert len(mine) == 2 and len(ends) == 4
+    assert all(local.message in (solver.NOISE_STOP, solver.STEP_STOP) for local in ends)
+    kept = min(mine, key=lambda local: local.rss)
+    assert sum(np.array_equal(u, kept.u) for u in taken) == 1
+    for local in ends:
+        if local is not kept:
+            assert not any(np.array_equal(u, local.u) for u in taken), local.label
+    assert np.all(np.isfinite(list(fit.standard_errors.values())))

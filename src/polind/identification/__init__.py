@@ -106,7 +106,8 @@ One idea each; everything public is imported here:
   Latin-hypercube points (:func:`spread_points`);
 * ``solver`` -- :func:`identify`: the least-squares solve from every start, a
   free value that cannot move the force fixed (:data:`STILL_COLUMN`), a start stopped
-  once it gains less than the noise (:data:`NOISE_SHARE`), its threads;
+  once it gains less than the noise (:data:`NOISE_SHARE`) or its step moves the force
+  by less than the noise can show (:data:`STEP_SHARE`), its threads;
 * ``results`` -- :class:`polind.FitResult`, its standard errors and warnings;
 * ``credibility`` -- the warnings on a fit as a whole (:ref:`guide-fit-warnings`):
   a force level beyond the data, residuals with structure (:func:`runs_test`), a
@@ -130,7 +131,7 @@ from polind.identification.parameters import (DEFAULT_RANGES, UNSCALED_RANGE, de
                                               fittable_keys, parse_fit)
 from polind.identification.plot import plot_fit
 from polind.identification.results import FitResult
-from polind.identification.solver import NOISE_SHARE, STILL_COLUMN, identify
+from polind.identification.solver import NOISE_SHARE, STEP_SHARE, STILL_COLUMN, identify
 from polind.identification.starts import DEFAULT_SPREAD_STARTS, SPREAD_SPAN, spread_points
 from polind.identification.structure import (identify_gms, identify_maxwell_slip,
                                               identify_stribeck)
@@ -140,6 +141,6 @@ __all__ = ["FitResult", "identify", "parse_fit", "default_bounds", "identify_max
            "fittable_keys", "measured_data", "MeasuredData", "holdout_split", "DEFAULT_RANGES",
            "UNSCALED_RANGE", "COLUMNS", "COLOURS", "Comparison", "compare",
            "DEFAULT_SPREAD_STARTS", "SPREAD_SPAN", "spread_points", "STILL_COLUMN",
-           "NOISE_SHARE",
+           "NOISE_SHARE", "STEP_SHARE",
            "SLIDING_LEVEL", "BREAKAWAY_LEVEL", "RUNS_Z", "RUNS_SHARE", "HOLDOUT_RATIO",
            "runs_test"]

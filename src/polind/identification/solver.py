@@ -26,8 +26,23 @@ the default ``tolerance`` alone would iterate on it.  The solver's ``ftol``
 is at least ``NOISE_SHARE / (n - p)``, but SciPy applies it only to a step
 its model of the sum of squares predicted well, and a friction model's
 residual has kinks (an element that sticks or slips one sample earlier), so
-the rule is also checked after each accepted iteration, through
-``least_squares``'s ``callback``.
+the rule is also checked after each accepted iteration.
+
+A start also stops when an accepted step ``d`` is too small for the data to
+see and gained less than one noise variance: ``|J d|^2 < NOISE_SHARE s^2``,
+(:data:`STEP_SHARE`), with ``J`` the Jacobian the step was taken from (the step moves the free
+values by less than a tenth of a standard error in their joint metric), and
+a decrease of the sum of squares below ``s^2``.  On a smooth sum of squares
+the two rules end a fit together (near the minimum a step's decrease is
+``|J d|^2``); on a rough one — a compliance whose spring solve jumps between
+stick and slip a sample earlier when a value moves by a millionth — the
+solver's trust region shrinks below the data's resolution while the jumps
+still lower the sum of squares now and then, and without this rule a start
+would go on collecting them.
+
+Both rules are judged when the solver asks for the Jacobian at the accepted
+point; a start they stop does not take it (the fit kept takes it afterwards,
+for its standard errors: the same computation at the same point).
 """
 
 from __future__ import annotations
@@ -37,7 +52,7 @@ import os
 import threading
 import time
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -50,7 +65,7 @@ from polind.identification.starts import DEFAULT_SPREAD_STARTS, check_starts, st
 from polind.resources import check_memory
 from polind.validation import check_number, describe
 
-__all__ = ["NOISE_SHARE", "STILL_COLUMN", "identify"]
+__all__ = ["NOISE_SHARE", "STEP_SHARE", "STILL_COLUMN", "identify"]
 
 #: A simulation of the data shorter than this [s] runs the fit on one thread by
 #: default: the threads' overhead, and their contention with the BLAS's own threads
@@ -67,6 +82,13 @@ NOISE_SHARE = 1e-2
 #: The solver's message of a start stopped by :data:`NOISE_SHARE` in the callback.
 NOISE_STOP = ("an iteration lowered the sum of squares by less than a hundredth of the noise "
               "variance")
+#: A start stops when an accepted step ``d`` moves the linearised force by
+#: ``|J d|^2`` below this share of the noise variance (and gained less than one noise
+#: variance): the free values moved by less than a tenth of a standard error.
+STEP_SHARE = 1e-2
+#: The solver's message of a start stopped by the step rule (module docstring).
+STEP_STOP = ("an iteration's step moved the force by less than a tenth of the noise (a tenth "
+             "of a standard error)")
 
 
 def _worker_count(workers, columns: int, seconds: float) -> int:
@@ -119,7 +141,8 @@ class _LocalFit:
     label: str
     u: np.ndarray
     rss: float
-    jac: np.ndarray          # at u, a zero column for each fixed variable
+    jac: np.ndarray | None   # at u, a zero column for each fixed variable; None: not taken
+    residual: np.ndarray     # at u
     iterations: int
     success: bool
     message: str
@@ -201,7 +224,9 @@ class _Problem:
         The values whose Jacobian column is zero at ``u0`` are fixed there.  Where
         the solution has given one of them a column again (GMS's Stribeck velocity
         once a start with ``Fs = Fc`` has moved them apart), the fit goes on from
-        the solution with it free (once).
+        the solution with it free (once).  The fit's ``jac`` is None where a stop
+        rule ended it before the Jacobian at its solution was taken
+        (:meth:`complete`).
         """
         base = self.evaluate(u0)
         if base is None:
@@ -209,7 +234,7 @@ class _Problem:
         first = self.jacobian(u0, base, range(u0.size))
         fixed = np.linalg.norm(first, axis=0) <= self.still
         if fixed.all():
-            return _LocalFit(label, u0, float(base @ base), first, 0, True,
+            return _LocalFit(label, u0, float(base @ base), first, base, 0, True,
                              "no free value moves the force", fixed)
         u, residual, jac, iterations, success, message = self._solve_active(
             u0, base, np.flatnonzero(~fixed), first[:, ~fixed])
@@ -221,10 +246,21 @@ class _Problem:
                 u, residual, jac, more, success, message = self._solve_active(
                     u, residual, np.flatnonzero(~fixed), None)
                 iterations += more
-        full = np.zeros((base.size, u0.size))
-        full[:, ~fixed] = jac
-        return _LocalFit(label, u, float(residual @ residual), full, iterations, success,
-                         message, fixed)
+        full = None
+        if jac is not None:
+            full = np.zeros((base.size, u0.size))
+            full[:, ~fixed] = jac
+        return _LocalFit(label, u, float(residual @ residual), full, residual, iterations,
+                         success, message, fixed)
+
+    def complete(self, local: _LocalFit) -> _LocalFit:
+        """``local`` with its Jacobian at its solution (taken now if a stop rule skipped it)."""
+        if local.jac is not None:
+            return local
+        active = np.flatnonzero(~local.fixed)
+        full = np.zeros((local.residual.size, local.u.size))
+        full[:, active] = self.jacobian(local.u, local.residual, active)
+        return replace(local, jac=full)
 
     def cost_tolerance(self, varied: int) -> float:
         """The solver's ``ftol`` with ``varied`` values varied: the ``tolerance``, or a
@@ -259,23 +295,29 @@ class _Problem:
             last["x"], last["residual"] = x.copy(), residual
             return residual
 
+        # The last accepted point: its sum of squares, variables and Jacobian.
+        accepted = {"rss": float(base @ base), "x": x0, "jac": first}
+        stop = {}
+
         def jacobian(x):
             known = pending.pop("jac", None)
             if known is not None and np.array_equal(x, x0):
                 return known
-            return self.jacobian(unpack(x), residuals(x), active)
+            if accepted["jac"] is not None and not np.array_equal(x, x0):
+                # x was just accepted (SciPy asks for the Jacobian there once, next): the
+                # stop rules are judged first, and a start they end does not take it.
+                stop["message"] = self._stop_rule(accepted, x, residuals(x), active.size)
+                if stop["message"] is not None:
+                    stop["skipped"] = True
+                    return accepted["jac"]       # not used: the callback ends the fit
+            jac = self.jacobian(unpack(x), residuals(x), active)
+            accepted.update(rss=float(residuals(x) @ residuals(x)), x=x.copy(), jac=jac)
+            return jac
 
-        accepted = {"rss": float(base @ base)}
-
-        def small_decrease(intermediate_result):
-            """Stop (StopIteration) after an iteration that lowered the sum of squares by
-            less than NOISE_SHARE of the noise variance (SciPy passes the iteration's
-            result to a parameter of this name)."""
-            rss = 2.0 * float(intermediate_result.cost)
-            decrease = accepted["rss"] - rss
-            accepted["rss"] = rss
-            noise = rss / max(self.measured.size - active.size, 1)
-            if 0.0 < decrease < NOISE_SHARE * noise:
+        def end(intermediate_result):
+            """Stop (StopIteration) where a stop rule ended the fit (SciPy passes the
+            iteration's result to a parameter of this name)."""
+            if stop.get("message") is not None:
                 raise StopIteration
 
         settings = self.settings
@@ -285,17 +327,38 @@ class _Problem:
                                  ftol=self.cost_tolerance(active.size),
                                  xtol=settings.tolerance,
                                  gtol=settings.tolerance, max_nfev=settings.max_evaluations,
-                                 callback=small_decrease)
-        stopped = solution.status == -2             # by small_decrease: at the noise floor
-        return (unpack(solution.x), solution.fun, solution.jac, int(solution.njev or 0),
+                                 callback=end)
+        stopped = solution.status == -2             # by a stop rule: at the noise floor
+        jac = None if stop.get("skipped") else solution.jac
+        return (unpack(solution.x), solution.fun, jac, int(solution.njev or 0),
                 stopped or solution.status > 0,
-                NOISE_STOP if stopped else str(solution.message))
+                stop["message"] if stopped else str(solution.message))
+
+    def _stop_rule(self, accepted, x, residual, varied: int) -> str | None:
+        """The message of the stop rule (module docstring) that ends a fit whose last
+        accepted point was ``accepted`` (``rss``, ``x``, ``jac``) and which has just
+        accepted ``x`` (``residual``) with ``varied`` values varied; None to go on."""
+        rss = float(residual @ residual)
+        decrease = accepted["rss"] - rss
+        noise = rss / max(self.measured.size - varied, 1)
+        if not 0.0 < decrease:
+            return None
+        if decrease < NOISE_SHARE * noise:
+            return NOISE_STOP
+        moved = accepted["jac"] @ (x - accepted["x"])
+        if decrease < noise and float(moved @ moved) < STEP_SHARE * noise:
+            return STEP_STOP
+        return None
 
 
 def _fit_from_starts(start, keys, bounds, frees, measured, settings, counter, *, starts,
-                     spread, extra_starts, special_cases, pool=None,
-                     threads=1) -> list[_LocalFit]:
+                     spread, extra_starts, special_cases, pool=None, threads=1,
+                     jacobian=True) -> list[_LocalFit]:
     """The local fits from every starting point (:mod:`polind.identification.starts`).
+
+    With ``jacobian`` the fit with the smallest sum of squares (the first of
+    equals) has its Jacobian at its solution (:meth:`_Problem.complete`); the
+    others may not.
 
     With a ``pool`` of ``threads`` threads the starts run side by side on it,
     and each start's Jacobian columns on as many threads again (a start left alone at
@@ -322,11 +385,15 @@ def _fit_from_starts(start, keys, bounds, frees, measured, settings, counter, *,
             else:
                 pending.append(pool.submit(problem.solve, label, u0))
         fits += [future.result() for future in pending]
+        fits = [local for local in fits if local is not None]
+        if fits and jacobian:
+            best = min(range(len(fits)), key=lambda index: fits[index].rss)
+            fits[best] = problem.complete(fits[best])
     finally:
         for future in pending:
             future.cancel()
         problem.close()
-    return [local for local in fits if local is not None]
+    return fits
 
 
 def _special_case_fit(case, bounds, measured, settings, counter, pool=None, threads=1):
@@ -352,7 +419,7 @@ def _special_case_fit(case, bounds, measured, settings, counter, pool=None, thre
         return None
     fits = _fit_from_starts(start, keys, given, frees, measured, settings, counter,
                             starts=None, spread=0, extra_starts=None, special_cases=False,
-                            pool=pool, threads=threads)
+                            pool=pool, threads=threads, jacobian=False)
     if not fits:
         return None
     best = min(fits, key=lambda local: local.rss)
