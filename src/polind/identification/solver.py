@@ -34,11 +34,10 @@ see and gained less than one noise variance: ``|J d|^2 < NOISE_SHARE s^2``,
 values by less than a tenth of a standard error in their joint metric), and
 a decrease of the sum of squares below ``s^2``.  On a smooth sum of squares
 the two rules end a fit together (near the minimum a step's decrease is
-``|J d|^2``); on a rough one — a compliance whose spring solve jumps between
-stick and slip a sample earlier when a value moves by a millionth — the
-solver's trust region shrinks below the data's resolution while the jumps
-still lower the sum of squares now and then, and without this rule a start
-would go on collecting them.
+``|J d|^2``); on a rough one (a spring solve that passes from stick to slip a
+sample earlier when a value moves by a millionth) the trust region shrinks
+below the data's resolution while the jumps still lower the sum of squares
+now and then: this rule ends the start there.
 
 Both rules are judged when the solver asks for the Jacobian at the accepted
 point; a start they stop does not take it (the fit kept takes it afterwards,
@@ -61,7 +60,8 @@ from polind.identification.data import MeasuredData, holdout_split, measured_dat
 from polind.identification.memory import fit_bytes_per_sample
 from polind.identification.parameters import build_free, model_at, param_value, parse_fit
 from polind.identification.results import FitResult, fit_result
-from polind.identification.starts import DEFAULT_SPREAD_STARTS, check_starts, starting_points
+from polind.identification.starts import (DEFAULT_SPREAD_STARTS, check_extra_starts,
+                                          check_starts, starting_points)
 from polind.resources import check_memory
 from polind.validation import check_number, describe
 
@@ -224,10 +224,8 @@ class _Problem:
         The values whose Jacobian column is zero at ``u0`` are fixed there.  Where
         the solution has given one of them a column again (GMS's Stribeck velocity
         once a start with ``Fs = Fc`` has moved them apart), the fit goes on from
-        the solution with it free (once).  The fit's ``jac`` is None where a stop
-        rule ended it before the Jacobian at its solution was taken
-        (:meth:`complete`).
-        """
+        the solution with it free (once).  ``jac`` is None where a stop rule ended
+        the fit before taking it (:meth:`complete`)."""
         base = self.evaluate(u0)
         if base is None:
             return None
@@ -295,8 +293,7 @@ class _Problem:
             last["x"], last["residual"] = x.copy(), residual
             return residual
 
-        # The last accepted point: its sum of squares, variables and Jacobian.
-        accepted = {"rss": float(base @ base), "x": x0, "jac": first}
+        accepted = {"rss": float(base @ base), "x": x0, "jac": first}   # the last accepted point
         stop = {}
 
         def jacobian(x):
@@ -335,18 +332,15 @@ class _Problem:
                 stop["message"] if stopped else str(solution.message))
 
     def _stop_rule(self, accepted, x, residual, varied: int) -> str | None:
-        """The message of the stop rule (module docstring) that ends a fit whose last
-        accepted point was ``accepted`` (``rss``, ``x``, ``jac``) and which has just
-        accepted ``x`` (``residual``) with ``varied`` values varied; None to go on."""
+        """The message of the stop rule (module docstring) that ends a fit at ``x``
+        (``residual``), accepted after ``accepted`` (``rss``, ``x``, ``jac``); else None."""
         rss = float(residual @ residual)
         decrease = accepted["rss"] - rss
         noise = rss / max(self.measured.size - varied, 1)
-        if not 0.0 < decrease:
-            return None
-        if decrease < NOISE_SHARE * noise:
+        if 0.0 < decrease < NOISE_SHARE * noise:
             return NOISE_STOP
         moved = accepted["jac"] @ (x - accepted["x"])
-        if decrease < noise and float(moved @ moved) < STEP_SHARE * noise:
+        if 0.0 < decrease < noise and float(moved @ moved) < STEP_SHARE * noise:
             return STEP_STOP
         return None
 
@@ -457,22 +451,6 @@ def _start_threads(workers, starts, seconds) -> int:
         return 1
     tasks = (os.cpu_count() or 1) if workers is None else workers
     return _worker_count(workers, tasks, seconds)
-
-
-def _checked_extra_starts(extra_starts, start) -> dict:
-    """``extra_starts`` as a dict label -> model of the start's type (InputError otherwise)."""
-    from collections.abc import Mapping
-
-    if extra_starts is None:
-        return {}
-    if not isinstance(extra_starts, Mapping):
-        raise InputError(f"The 'extra_starts' of identify must be a mapping label -> model. Got "
-                         f"{describe(extra_starts)} instead.")
-    for label, model in extra_starts.items():
-        if type(model) is not type(start):
-            raise InputError(f"The extra start '{label}' of identify must be a {start.type} "
-                             f"model, as the model fitted. Got {describe(model)} instead.")
-    return dict(extra_starts)
 
 
 def identify(model, data, *, free=None, bounds=None, holdout=None, starts=None,
@@ -645,7 +623,7 @@ def identify(model, data, *, free=None, bounds=None, holdout=None, starts=None,
             warnings.simplefilter("ignore", ValidityWarning)
             fits = _fit_from_starts(start, keys, given_bounds, frees, measured, settings,
                                     counter, starts=starts, spread=DEFAULT_SPREAD_STARTS,
-                                    extra_starts=_checked_extra_starts(extra_starts, start),
+                                    extra_starts=check_extra_starts(extra_starts, start),
                                     special_cases=True, pool=pool, threads=threads)
     finally:
         if pool is not None:

@@ -37,6 +37,7 @@ from polind.models import FrictionModel
 from polind.validation import describe
 
 __all__ = ["DEFAULT_SPREAD_STARTS", "SPREAD_SPAN", "GIVEN_START", "check_starts",
+           "check_extra_starts",
            "spread_points", "starting_points"]
 
 #: Latin hypercube points a fit starts from besides the model's own starts, by default.
@@ -56,6 +57,20 @@ def check_starts(starts) -> int | None:
         raise InputError(f"The number of 'starts' must be a positive integer (the starting "
                          f"points of the fit). Got {describe(starts)} instead.")
     return int(starts)
+
+
+def check_extra_starts(extra_starts, start) -> dict:
+    """``extra_starts`` as a dict label -> model of the start's type (InputError otherwise)."""
+    if extra_starts is None:
+        return {}
+    if not isinstance(extra_starts, Mapping):
+        raise InputError(f"The 'extra_starts' of identify must be a mapping label -> model. Got "
+                         f"{describe(extra_starts)} instead.")
+    for label, model in extra_starts.items():
+        if type(model) is not type(start):
+            raise InputError(f"The extra start '{label}' of identify must be a {start.type} "
+                             f"model, as the model fitted. Got {describe(model)} instead.")
+    return dict(extra_starts)
 
 
 def spread_points(frees: list[FreeParameter], count: int, seed: int = 0) -> np.ndarray:
