@@ -111,8 +111,10 @@ DECAY_NEWEST = 30
 N_SCALARS = 31
 
 ELEMENT_SCRATCH = 3       # table row of capacities W_j [N] at the current load
-DECAY = 4                 # two table rows (work): decay factors exp(-C h / (alpha_j g))
-DECAY_INVERSE = 6         # table row (work): the 1/alpha_j they were computed from
+#: Two table rows (work): decay factors ``exp(-C h / (alpha_j g))`` (:func:`decay_row`).
+DECAY = 4
+#: Table row (work): the ``1/alpha_j`` the :data:`DECAY` rows were computed from.
+DECAY_INVERSE = 6
 N_ROWS = 7
 
 
