@@ -147,6 +147,81 @@ def test_matches_the_gms_oracle_on_its_own_element_table(motion):
     np.testing.assert_allclose(got, want, rtol=1e-9, atol=1e-9 * 15.0)
 
 
+@pytest.mark.parametrize("level", [0.6, 3.0], ids=["stick-slip", "sliding"])
+def test_the_kept_decay_factors_change_no_bit(level):
+    # A Pol-Ind step takes its elements' decay factors from rows it keeps between steps
+    # (polind.kernels.pol_ind.decay_row: the body's trials and commit, and samples with
+    # the same step length, share them); GMS on its element table computes every one.
+    # Pushed at 1 kHz from t = 1 s on (the step length then takes two values), sliding
+    # fast (g is mu_k N to the bit: the rows serve many steps) or sticking and slipping.
+    model = pol_ind()
+    gms = polind.model_from_dict({"model": table_as_gms(model)})
+    k = np.arange(3000)
+    pushes = (level * 10.0 * np.where((k // 250) % 2 == 0, 1.0, -1.0)
+              + np.sin(2 * np.pi * k / 700.0)).tolist()
+    bodies = []
+    for each in (model, gms):
+        start = each.initial_state()
+        start.time = 1.0
+        bodies.append(polind.Body(each, state=start))
+    got, want = bodies
+    assert [got.step(push) for push in pushes] == [want.step(push) for push in pushes]
+    system = polind.System(mass=2.0, duration=2.0, time_step=1e-3)
+    forces = np.array(pushes[:system.times.shape[0] - 1])
+    for method in ("bdf2", "euler"):
+        a = polind.simulate_system(model, system, applied=forces, method=method)
+        b = polind.simulate_system(gms, system, applied=forces, method=method)
+        np.testing.assert_array_equal(np.array([a.x, a.v, a.force]),
+                                      np.array([b.x, b.v, b.force]))
+    t = 1.0 + np.arange(4000) * 2e-4
+    x = 3e-3 * np.sin(2 * np.pi * 3 * t)
+    np.testing.assert_array_equal(polind.simulate(model, t, x=x).force,
+                                  polind.simulate(gms, t, x=x).force)
+
+
+@pytest.mark.parametrize("summation", ["statistical", "direct"])
+def test_the_kept_decay_factors_follow_a_changing_load(summation):
+    # A load that dips for one step and comes back changes the weights under the kept
+    # factors (a direct surface's separation, warm-started, comes back to within a few
+    # ulp): a body equals one whose kept factors are forgotten before every step.
+    from polind.kernels import pol_ind as slots
+
+    model = pol_ind(**{"discretisation.summation": summation, "discretisation.elements": 48})
+    bodies = polind.Body(model), polind.Body(model)
+    forgotten = bodies[1]._kernel.scalars
+    for k in range(1500):
+        load = 90.0 if k % 5 == 0 else (100.0 if (k // 100) % 2 == 0 else 95.0)
+        push = 14.0 * (1.0 if (k // 300) % 2 == 0 else -1.0)
+        forgotten[slots.DECAY_KEYS:slots.DECAY_KEYS + 4] = np.nan
+        assert bodies[0].step(push, normal_load=load) == bodies[1].step(push, normal_load=load)
+
+
+def test_the_kept_decay_factors_are_computed_again_for_new_weights():
+    # Whatever writes the weights, a step after it uses factors of the weights it finds:
+    # a step at the h and g of kept factors, on weights changed in place, equals the step
+    # on a copy of the arrays that kept no factors.
+    from polind.kernels import elements, pol_ind as slots
+
+    model = pol_ind()
+    kernel = model.step_kernel(model.initial_state())
+    scalars, table, state = kernel.scalars, kernel.table, kernel.state
+    # Sliding at two velocities below a few Stribeck velocities (vs = 1 mm/s): g differs
+    # between them, so the slipping elements relax with their factors at each change
+    # (with C h / g about 1e-2: factors of order one).
+    step, load = 1e-5, kernel.normal_load
+    for velocity in (2e-3, 1e-3, 2e-3, 1e-3):
+        slots.settled_step(scalars, table, state, step, step * velocity, velocity, velocity, load)
+    velocity = 2e-3
+    table[elements.ELEMENT_INVERSE, ::3] *= 1.25
+    fresh = scalars.copy(), table.copy(), state.copy()
+    fresh[0][slots.DECAY_KEYS:slots.DECAY_KEYS + 4] = np.nan
+    got = slots.settled_step(scalars, table, state, step, step * velocity, velocity, velocity,
+                             load)
+    want = slots.settled_step(*fresh, step, step * velocity, velocity, velocity, load)
+    assert got == want
+    np.testing.assert_array_equal(state, fresh[2])
+
+
 # --- a time-varying normal load (MODELS.md 7.5 Choice) ------------------------------------
 
 def gw_load(d, p):

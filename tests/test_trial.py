@@ -4,7 +4,9 @@ The implicit solvers (the body's and the series spring's) ask a model's
 ``trial`` for the force and tangent of a step without writing its state; it
 must give what the step on a copy of the state and the tangent there give
 (to rounding: the sums may run in another order), leave every array as it
-was, and decline (``written`` -1) where Pol-Ind's table is at another load.
+was (but for a cache the step keeps too: Pol-Ind's decay factors,
+``polind.kernels.pol_ind.decay_row``), and decline (``written`` -1) where
+Pol-Ind's table is at another load.
 Asked to keep its state (``keep``), it writes the state the step leaves into
 its ``out`` array: the leading ``written`` entries, bit for bit the step's
 (the series spring takes that state instead of stepping again).
@@ -34,6 +36,22 @@ def _kernel(model):
     return kernel
 
 
+def _lasting(model, scalars, table):
+    """``scalars`` and ``table`` without the entries a step may use as a cache.
+
+    Pol-Ind keeps its last decay factors in work rows and slots of its
+    arrays (``polind.kernels.pol_ind.decay_row``), which its trial fills
+    as its step does.
+    """
+    if not isinstance(model, PolInd):
+        return scalars, table
+    from polind.kernels import pol_ind
+
+    kept_slots = np.arange(pol_ind.DECAY_KEYS, pol_ind.DECAY_NEWEST + 1)
+    kept_rows = np.arange(pol_ind.DECAY, pol_ind.DECAY_INVERSE + 1)
+    return np.delete(scalars, kept_slots), np.delete(table, kept_rows, axis=0)
+
+
 def _trial_of(kernel):
     module, names = generate.MODELS[kernel.runners.__name__.rsplit(".", 1)[1]]
     return getattr(__import__(module, fromlist=["_"]), names["trial"])
@@ -47,13 +65,14 @@ def test_the_trial_is_the_step_on_a_copy_and_writes_only_out(model, velocity, ke
     kernel = _kernel(model)
     trial = _trial_of(kernel)
     arrays = (kernel.scalars, kernel.table, kernel.state)
-    before = [array.copy() for array in arrays]
+    before = [*_lasting(model, kernel.scalars.copy(), kernel.table.copy()), kernel.state.copy()]
     out = np.full(kernel.state.shape[0], np.nan)
     sample_velocity = 1.5 * velocity - 1e-4
     force, tangent, written = trial(*arrays, out, keep, STEP, velocity * STEP, velocity,
                                     sample_velocity, kernel.normal_load)
     assert written >= 0 and (keep or written == 0)
-    for array, copy in zip(arrays, before):
+    after = [*_lasting(model, kernel.scalars, kernel.table), kernel.state]
+    for array, copy in zip(after, before):
         np.testing.assert_array_equal(array, copy)
     assert np.isnan(out[written:]).all()
     work = kernel.state.copy()

@@ -159,9 +159,17 @@ def gms_element(force, slip, stiffness, weight, inverse_weight, capacity_scale, 
 
     Branch-free (selects), so that a loop over elements vectorises.
     """
+    return gms_decayed_element(force, slip, stiffness, weight, capacity_scale, direction,
+                               displacement, decay_exp(decay_rate * inverse_weight))
+
+
+@jit(inline="always")
+def gms_decayed_element(force, slip, stiffness, weight, capacity_scale, direction,
+                        displacement, decay):
+    """:func:`gms_element` with its decay factor ``exp(decay_rate / alpha_i)`` given."""
     capacity = weight * capacity_scale
     target = direction * capacity
-    relaxed = target + (force - target) * decay_exp(decay_rate * inverse_weight)
+    relaxed = target + (force - target) * decay
     trial = force + stiffness * displacement
     slipping = (slip == direction) or (direction * force >= capacity)
     crosses = direction * trial >= capacity
@@ -203,6 +211,66 @@ def gms_kept_elements(element_force, slip_direction, stiffness, weight, inverse_
         force, slip = gms_element(element_force[i], slip_direction[i], stiffness[i], weight[i],
                                   inverse_weight[i], capacity_scale, direction, displacement,
                                   decay_rate)
+        out_force[i] = force
+        out_slip[i] = slip
+        total += force
+        stuck += stiffness[i] if slip == 0.0 else 0.0
+    return total, stuck
+
+
+@jit(inline="always")
+def decay_factors(inverse_weight, decay_rate, out):
+    """``out[i] = exp(decay_rate / alpha_i)``: the factors :func:`gms_element` computes inline.
+
+    The same expression (``decay_rate * inverse_weight[i]`` through
+    :func:`polind.kernels.fastexp.decay_exp`), so that a loop of
+    :func:`gms_decayed_element` on these factors gives what
+    :func:`gms_elements` gives, to the bit.
+    """
+    for i in range(out.shape[0]):
+        out[i] = decay_exp(decay_rate * inverse_weight[i])
+
+
+@jit(inline="always")
+def gms_decayed_elements(element_force, slip_direction, stiffness, weight, decay,
+                         capacity_scale, direction, displacement):
+    """:func:`gms_elements` with each element's decay factor given (:func:`decay_factors`)."""
+    total = 0.0
+    for i in range(element_force.shape[0]):
+        force, slip = gms_decayed_element(element_force[i], slip_direction[i], stiffness[i],
+                                          weight[i], capacity_scale, direction, displacement,
+                                          decay[i])
+        element_force[i] = force
+        slip_direction[i] = slip
+        total += force
+    return total
+
+
+@jit(inline="always")
+def gms_decayed_trial_elements(element_force, slip_direction, stiffness, weight, decay,
+                               capacity_scale, direction, displacement):
+    """:func:`gms_trial_elements` with each element's decay factor given."""
+    total = 0.0
+    stuck = 0.0
+    for i in range(element_force.shape[0]):
+        force, slip = gms_decayed_element(element_force[i], slip_direction[i], stiffness[i],
+                                          weight[i], capacity_scale, direction, displacement,
+                                          decay[i])
+        total += force
+        stuck += stiffness[i] if slip == 0.0 else 0.0
+    return total, stuck
+
+
+@jit(inline="always")
+def gms_decayed_kept_elements(element_force, slip_direction, stiffness, weight, decay,
+                              capacity_scale, direction, displacement, out_force, out_slip):
+    """:func:`gms_kept_elements` with each element's decay factor given."""
+    total = 0.0
+    stuck = 0.0
+    for i in range(element_force.shape[0]):
+        force, slip = gms_decayed_element(element_force[i], slip_direction[i], stiffness[i],
+                                          weight[i], capacity_scale, direction, displacement,
+                                          decay[i])
         out_force[i] = force
         out_slip[i] = slip
         total += force
@@ -456,3 +524,59 @@ def gms_trial_step(scalars, table, state, out, keep, step, displacement, step_ve
     return gms_trial_scaled(scalars, table, state[:n], state[n:2 * n], out, keep, step,
                             displacement, step_velocity, sample_velocity, scalars[COULOMB],
                             scalars[STATIC])
+
+
+@jit(inline="always")
+def gms_step_decayed(decay_function, scalars, table, element_force, slip_direction, step,
+                     displacement, step_velocity, sample_velocity, coulomb_force, static_force):
+    """:func:`gms_step_scaled` with the decay factors from ``decay_function``.
+
+    ``decay_function(scalars, table, step, g)`` gives the row of factors
+    ``exp(-C h / (alpha_i g))`` as :func:`decay_factors` computes them (a
+    model may keep them between steps: :func:`polind.kernels.pol_ind.decay_row`);
+    the forces are :func:`gms_step_scaled`'s, to the bit.
+    """
+    if step_velocity == 0.0:
+        total = element_sum(element_force)
+    else:
+        g = stribeck_curve(step_velocity, coulomb_force, static_force,
+                           scalars[STRIBECK_VELOCITY], scalars[STRIBECK_EXPONENT],
+                           scalars[STRIBECK_SHAPE])
+        total = gms_decayed_elements(element_force, slip_direction, table[ELEMENT_STIFFNESS],
+                                     table[ELEMENT_CAPACITY],
+                                     decay_function(scalars, table, step, g), g,
+                                     sign(step_velocity), displacement)
+    return total + scalars[VISCOUS] * sample_velocity
+
+
+@jit(inline="always")
+def gms_trial_decayed(decay_function, scalars, table, element_force, slip_direction, out, keep,
+                      step, displacement, step_velocity, sample_velocity, coulomb_force,
+                      static_force):
+    """:func:`gms_trial_scaled` with the decay factors from ``decay_function``.
+
+    As in :func:`gms_step_decayed`; the result is :func:`gms_trial_scaled`'s, to the bit.
+    """
+    stiffness = table[ELEMENT_STIFFNESS]
+    n = element_force.shape[0]
+    written = 0
+    if step_velocity == 0.0:
+        total = element_sum(element_force)
+        stuck = stuck_stiffness(stiffness, slip_direction)
+    else:
+        g = stribeck_curve(step_velocity, coulomb_force, static_force,
+                           scalars[STRIBECK_VELOCITY], scalars[STRIBECK_EXPONENT],
+                           scalars[STRIBECK_SHAPE])
+        decay = decay_function(scalars, table, step, g)
+        if keep:
+            written = 2 * n
+            total, stuck = gms_decayed_kept_elements(element_force, slip_direction, stiffness,
+                                                     table[ELEMENT_CAPACITY], decay, g,
+                                                     sign(step_velocity), displacement,
+                                                     out[:n], out[n:2 * n])
+        else:
+            total, stuck = gms_decayed_trial_elements(element_force, slip_direction, stiffness,
+                                                      table[ELEMENT_CAPACITY], decay, g,
+                                                      sign(step_velocity), displacement)
+    return (total + scalars[VISCOUS] * sample_velocity, step * stuck + scalars[VISCOUS],
+            written)

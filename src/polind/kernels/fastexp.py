@@ -33,6 +33,9 @@ _LOG2E = 1.4426950408889634
 _LN2_HI = 6.93147180369123816490e-01
 _LN2_LO = 1.90821492927058770002e-10
 _LOWEST = -708.0
+# 2**52 + 1023: ``n + _SCALE_BIAS`` (n an integer, -1021 <= n for x >= -708) is a float,
+# exactly, whose low mantissa bits are n + 1023, the biased exponent of 2**n.
+_SCALE_BIAS = 4503599627370496.0 + 1023.0
 
 
 @intrinsic
@@ -78,7 +81,9 @@ def decay_exp(x):
     p = fma(p, r, 0.5)
     p = fma(p, r, 1.0)
     p = fma(p, r, 1.0)
-    scale = np.int64((np.int64(n) + 1023) << 52).view(np.float64)
+    # 2**n from its exponent bits, taken from the mantissa of n + 2**52 + 1023 (exact):
+    # no float-to-integer conversion, which AVX2 has no vector instruction for.
+    scale = np.int64(np.float64(n + _SCALE_BIAS).view(np.int64) << 52).view(np.float64)
     return 0.0 if underflow else p * scale
 
 

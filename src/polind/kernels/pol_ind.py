@@ -15,11 +15,12 @@ stuck from zero force (:ref:`guide-pol-ind-varying-load`).  An element is
 in contact while its height is above the separation (``delta_j > 0``).
 
 A step that changes the load *and* moves (:func:`load_step`) does all of
-that in one pass over the elements with the GMS update: the shares
-``alpha_j`` and ``1/alpha_j`` are computed in the loop from the capacities
-``W_j`` and not stored, and the scalar :data:`TABLE_STALE` says that the
-table's share rows lag its capacities row until a step at an unchanged load
-brings them up to date (:func:`refresh_shares`).  The forces are those of
+that in one pass over the elements with the GMS update (after a pass for
+the decay factors): the shares ``alpha_j`` and ``1/alpha_j`` are computed
+in the loops from the capacities ``W_j`` and not stored, and the scalar
+:data:`TABLE_STALE` says that the table's share rows lag its capacities row
+until a step at an unchanged load brings them up to date
+(:func:`refresh_shares`).  The forces are those of
 :func:`set_load` followed by the GMS step, to rounding.
 
 A ball on a flat (:ref:`guide-measured-surfaces-ball`) makes the nominal
@@ -41,11 +42,26 @@ with its own, and the Hertzian step compiles to what it was.
 Arrays
 ------
 ``scalars``: the GMS slots of :mod:`polind.kernels.elements` (0-6) and the
-slots below; the ones marked *work* change as the load changes.
-``table`` rows: the GMS rows (stiffness, weight, 1/weight) and a row of
-capacities (the ``W_j`` at the current load).  ``state``: element forces,
-slip directions, element heights, element counts (``n`` each) and the load
-the table was built for.
+slots below; the ones marked *work* change as the model steps.
+``table`` rows: the GMS rows (stiffness, weight, 1/weight), a row of
+capacities (the ``W_j`` at the current load) and three work rows: two rows
+of the elements' decay factors and the weights they were computed from
+(:func:`decay_row`).  ``state``: element forces, slip directions, element
+heights, element counts (``n`` each) and the load the table was built for.
+
+The decay factors
+-----------------
+A GMS step relaxes each slipping element by ``exp(-C h / (alpha_j g))``,
+one exponential per element, and that is most of the step's cost.  The
+body's implicit solve (:mod:`polind.kernels.dynamics`) steps the elements
+at two or three velocities per sample and then commits one; above a few
+Stribeck velocities ``g`` is ``mu_k N`` to the bit at all of them, and
+``h`` repeats from sample to sample.  So the steps and the read-only trial
+take their factors from :func:`decay_row`, which keeps the last two rows
+computed with the ``h``, ``g`` and weights they came from and computes a row
+only for new ones: the same numbers, to the bit, as computing them in every
+step (measured, a moving :class:`polind.Body` step of the default 64-element
+model took about 40 % less time).
 """
 
 from __future__ import annotations
@@ -55,9 +71,11 @@ import math
 from polind.kernels import jit
 from polind.kernels.elements import (ATTRACTION, ELEMENT_CAPACITY, ELEMENT_INVERSE,
                                      ELEMENT_STIFFNESS, STRIBECK_EXPONENT, STRIBECK_SHAPE,
-                                     STRIBECK_VELOCITY, VISCOUS, element_properties,
-                                     element_sum, gms_element, gms_force, gms_step_scaled,
-                                     gms_trial_scaled, stuck_stiffness)
+                                     STRIBECK_VELOCITY, VISCOUS, decay_factors,
+                                     element_properties, element_sum, gms_decayed_element,
+                                     gms_force, gms_step_decayed, gms_trial_decayed,
+                                     stuck_stiffness)
+from polind.kernels.fastexp import decay_exp
 from polind.kernels.separation import (DIRECT, direct_lower_bound, newton_separation,
                                        predicted_start, statistical_separation_only)
 from polind.kernels.special import IVE, KVE
@@ -84,11 +102,20 @@ TABLE_STALE = 24
 #: Scalar slot: a ball on a flat's table load ``N_t`` [N] (its nominal area follows the
 #: load, :func:`area_ratio`); 0 without a ball.
 BALL_LOAD = 25
+#: Scalar slots (work): the ``-C h`` and the ``g`` each of the table's two :data:`DECAY`
+#: rows was computed for (at ``DECAY_KEYS + 2 e`` and ``+ 2 e + 1``), and the row used
+#: last (:func:`decay_row`).
+DECAY_KEYS = 26
+DECAY_NEWEST = 30
 #: Scalar slots of the Hertzian step.
-N_SCALARS = 26
+N_SCALARS = 31
 
 ELEMENT_SCRATCH = 3       # table row of capacities W_j [N] at the current load
-N_ROWS = 4
+#: Two table rows (work): decay factors ``exp(-C h / (alpha_j g))`` (:func:`decay_row`).
+DECAY = 4
+#: Table row (work): the ``1/alpha_j`` the :data:`DECAY` rows were computed from.
+DECAY_INVERSE = 6
+N_ROWS = 7
 
 
 @jit
@@ -282,26 +309,32 @@ def set_load_apart(scalars, table, state, normal_load):
 @jit(inline="always")
 def fresh_elements(element_force, slip_direction, stiffness, breakaway, heights,
                    previous_separation, total, reciprocal, static_force, capacity_scale,
-                   direction, displacement, decay_rate):
-    """:func:`set_load`'s element updates and :func:`polind.kernels.elements.gms_elements`, in one pass.
+                   direction, displacement, decay_rate, factors):
+    """:func:`set_load`'s element updates and :func:`polind.kernels.elements.gms_elements`, fused.
 
     The weights come from the capacities ``W_j`` in the loop
     (``alpha_j = W_j / sum W``, ``1/alpha_j = sum W / W_j``) instead of
-    from the table's rows, which this loop does not write: with two arrays
-    written, LLVM vectorises it.  ``static_force`` is ``mu_s N``,
-    ``capacity_scale`` ``g(v)``; the rest as in ``gms_elements``.  Returns
-    the sum of the element forces.
+    from the table's rows, which this loop does not write.  Two passes:
+    the decay factors into ``factors``
+    (:func:`polind.kernels.elements.decay_factors` of those ``1/alpha_j``),
+    then the resets, clips and the GMS update with them; each pass writes
+    at most two arrays, so LLVM vectorises both, and two plain loops ran
+    faster than one with the exponential inside.  ``static_force`` is
+    ``mu_s N``, ``capacity_scale`` ``g(v)``; the rest as in
+    ``gms_elements``.  Returns the sum of the element forces.
     """
-    result = 0.0
     for i in range(element_force.shape[0]):
         breakaway_force = breakaway[i]
-        alpha = breakaway_force * reciprocal
         inverse = total / breakaway_force if breakaway_force > 0.0 else math.inf
+        factors[i] = decay_exp(decay_rate * inverse)
+    result = 0.0
+    for i in range(element_force.shape[0]):
+        alpha = breakaway[i] * reciprocal
         limit = alpha * static_force
         force, slip = element_at_load(element_force[i], slip_direction[i], heights[i],
                                       previous_separation, limit)
-        force, slip = gms_element(force, slip, stiffness[i], alpha, inverse, capacity_scale,
-                                  direction, displacement, decay_rate)
+        force, slip = gms_decayed_element(force, slip, stiffness[i], alpha, capacity_scale,
+                                          direction, displacement, factors[i])
         element_force[i] = force
         slip_direction[i] = slip
         result += force
@@ -315,7 +348,8 @@ def load_step_with(capacities, scalars, table, state, step, displacement, step_v
 
     The separation and the capacities (``capacities``, e.g.
     :func:`statistical_capacities`) as :func:`set_load` computes them, then
-    one pass over the elements (:func:`fresh_elements`); the weight rows are
+    the elements (:func:`fresh_elements`, its decay factors into a
+    :data:`DECAY` row, which then holds no kept factors); the weight rows are
     left stale (:data:`TABLE_STALE`).
     """
     n = table.shape[1]
@@ -328,10 +362,13 @@ def load_step_with(capacities, scalars, table, state, step, displacement, step_v
     g = stribeck_curve(step_velocity, scalars[KINETIC_COEFFICIENT] * normal_load, static_force,
                        scalars[STRIBECK_VELOCITY], scalars[STRIBECK_EXPONENT],
                        scalars[STRIBECK_SHAPE])
+    # The factors go to a decay row, which then holds no kept factors (decay_row).
+    for key in range(DECAY_KEYS, DECAY_KEYS + 4):
+        scalars[key] = math.nan
     total_force = fresh_elements(state[:n], state[n:2 * n], table[ELEMENT_STIFFNESS], breakaway,
                                  state[2 * n:3 * n], previous_separation, total, reciprocal,
                                  static_force, g, sign(step_velocity), displacement,
-                                 -scalars[ATTRACTION] * step / g)
+                                 -scalars[ATTRACTION] * step / g, table[DECAY])
     scalars[CURRENT_LOAD] = normal_load
     scalars[SEPARATION] = separation
     scalars[TABLE_STALE] = 1.0
@@ -377,7 +414,7 @@ def pol_ind_step(scalars, table, state, step, displacement, step_velocity, sampl
                  normal_load):
     """The GMS law with ``g(v) = N [mu_k + (mu_s - mu_k) shape(v)]`` (:ref:`guide-pol-ind-law`).
 
-    A moving step at a new load is :func:`load_step` (one pass); the rest is
+    A moving step at a new load is :func:`load_step` (fused); the rest is
     :func:`settled_step`.
     """
     return step_with(load_step, set_load_apart, scalars, table, state, step, displacement,
@@ -397,6 +434,55 @@ def step_with(load_step_function, set_load_function, scalars, table, state, step
                                   sample_velocity, normal_load)
     return settled_step_with(set_load_function, scalars, table, state, step, displacement,
                              step_velocity, sample_velocity, normal_load)
+
+
+@jit
+def decay_row(scalars, table, step, g):
+    """A row of decay factors ``exp(-C h / (alpha_j g))`` for a step ``h`` [s] at ``g`` [N].
+
+    Computed (:func:`polind.kernels.elements.decay_factors`) into one of the
+    table's two :data:`DECAY` rows, and kept there with what it was computed
+    from (``-C h`` and ``g`` in the scalars, the ``1/alpha_j`` row in the
+    table); a step with the same three takes the kept row instead of
+    computing the exponentials again.  The body's implicit solve steps the
+    elements at several velocities per sample (its trials, then the commit),
+    and above a few Stribeck velocities ``g`` is ``mu_k N`` to the bit: one
+    row then serves every trial and the commit, and the next samples too.
+    Two rows, because a constant time step ``h`` is not one number: the
+    steps between sample times ``t_0 + n h`` rounded to doubles take two
+    values within each binade of ``t`` (the one less recently used is
+    replaced).  A row is a function of those inputs only, checked in full
+    (the whole ``1/alpha_j`` row), so the forces are the same as computing
+    the factors every time, to the bit, whatever changed the table in
+    between.  Compiled apart: one function for the steps and the trials
+    that call it.
+    """
+    numerator = -scalars[ATTRACTION] * step
+    inverse_weight = table[ELEMENT_INVERSE]
+    kept = table[DECAY_INVERSE]
+    changed = 0
+    for j in range(kept.shape[0]):
+        changed += 0 if kept[j] == inverse_weight[j] else 1
+    if changed == 0:
+        for entry in range(2):
+            key = DECAY_KEYS + 2 * entry
+            if numerator == scalars[key] and g == scalars[key + 1]:
+                scalars[DECAY_NEWEST] = entry
+                return table[DECAY + entry]
+        entry = 1 - int(scalars[DECAY_NEWEST])     # the one used less recently
+    else:
+        # New weights: neither row holds their factors.
+        for j in range(kept.shape[0]):
+            kept[j] = inverse_weight[j]
+        for key in range(DECAY_KEYS, DECAY_KEYS + 4):
+            scalars[key] = math.nan
+        entry = 0
+    factors = table[DECAY + entry]
+    decay_factors(inverse_weight, numerator / g, factors)
+    scalars[DECAY_KEYS + 2 * entry] = numerator
+    scalars[DECAY_KEYS + 2 * entry + 1] = g
+    scalars[DECAY_NEWEST] = entry
+    return factors
 
 
 @jit
@@ -424,10 +510,10 @@ def settled_step_with(set_load_function, scalars, table, state, step, displaceme
     elif scalars[TABLE_STALE] != 0.0:
         refresh_shares(scalars, table)
     n = table.shape[1]
-    return gms_step_scaled(scalars, table, state[:n], state[n:2 * n], step, displacement,
-                           step_velocity, sample_velocity,
-                           scalars[KINETIC_COEFFICIENT] * normal_load,
-                           scalars[STATIC_COEFFICIENT] * normal_load)
+    return gms_step_decayed(decay_row, scalars, table, state[:n], state[n:2 * n], step,
+                            displacement, step_velocity, sample_velocity,
+                            scalars[KINETIC_COEFFICIENT] * normal_load,
+                            scalars[STATIC_COEFFICIENT] * normal_load)
 
 
 @jit
@@ -461,10 +547,11 @@ def pol_ind_trial_step(scalars, table, state, out, keep, step, displacement, ste
 
     At the load the table was last brought to, the step is the GMS step of
     the table (:func:`settled_step_with`): ``(F, tangent, written)`` from
-    :func:`polind.kernels.elements.gms_trial_scaled` (with ``keep``, the
+    :func:`polind.kernels.elements.gms_trial_decayed` (with ``keep``, the
     new element forces and slip directions in ``out``), after the weight
     rows are brought up to date if a step left them stale, as the step would
-    (the one write, to the table, the same as the step's).  At another load
+    (the writes, to the table and its decay factors (:func:`decay_row`), are
+    the step's own).  At another load
     ``(NaN, NaN, -1)``: the caller steps a copy, as without a trial.
     Serves the Hertzian, the fixed-load and the elastic-plastic steps alike
     (the same arrays at the table's load).
@@ -474,10 +561,10 @@ def pol_ind_trial_step(scalars, table, state, out, keep, step, displacement, ste
     if scalars[TABLE_STALE] != 0.0:
         refresh_shares(scalars, table)
     n = table.shape[1]
-    return gms_trial_scaled(scalars, table, state[:n], state[n:2 * n], out, keep, step,
-                            displacement, step_velocity, sample_velocity,
-                            scalars[KINETIC_COEFFICIENT] * normal_load,
-                            scalars[STATIC_COEFFICIENT] * normal_load)
+    return gms_trial_decayed(decay_row, scalars, table, state[:n], state[n:2 * n], out, keep,
+                             step, displacement, step_velocity, sample_velocity,
+                             scalars[KINETIC_COEFFICIENT] * normal_load,
+                             scalars[STATIC_COEFFICIENT] * normal_load)
 
 
 @jit(inline="always")
@@ -516,10 +603,10 @@ def fixed_load_step(scalars, table, state, step, displacement, step_velocity, sa
     elif scalars[TABLE_STALE] != 0.0:
         refresh_shares(scalars, table)
     n = table.shape[1]
-    return gms_step_scaled(scalars, table, state[:n], state[n:2 * n], step, displacement,
-                           step_velocity, sample_velocity,
-                           scalars[KINETIC_COEFFICIENT] * normal_load,
-                           scalars[STATIC_COEFFICIENT] * normal_load)
+    return gms_step_decayed(decay_row, scalars, table, state[:n], state[n:2 * n], step,
+                            displacement, step_velocity, sample_velocity,
+                            scalars[KINETIC_COEFFICIENT] * normal_load,
+                            scalars[STATIC_COEFFICIENT] * normal_load)
 
 
 @jit
