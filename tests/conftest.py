@@ -9,9 +9,16 @@ from __future__ import annotations
 
 import copy
 import os
+import signal
 import sys
 
 import numpy as np
+
+# A shell without job control starts a background command with SIGINT ignored, and a
+# child process inherits that: the tests that interrupt a `polind` process with SIGINT
+# (Ctrl-C) would see it ignored.  The suite's processes take Python's own handler.
+if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+    signal.signal(signal.SIGINT, signal.default_int_handler)
 
 # the test modules import ``oracles`` and these helpers as plain modules
 sys.path.insert(0, os.path.dirname(__file__))
