@@ -126,12 +126,31 @@ def element_sum(element_force):
 
 
 @jit(inline="always")
-def gms_elements(element_force, slip_direction, stiffness, weight, inverse_weight,
+def computed_decay(inverse_weight, decay_rate, i):
+    """Element ``i``'s decay factor ``exp(decay_rate / alpha_i)``, computed from the
+    ``1/alpha`` row (:func:`gms_elements`'s ``factor`` of a step that keeps no factors)."""
+    return decay_exp(decay_rate * inverse_weight[i])
+
+
+@jit(inline="always")
+def given_decay(decay, decay_rate, i):
+    """Element ``i``'s decay factor from a row of them (:func:`decay_factors`; ``decay_rate``
+    is not used): :func:`gms_elements`'s ``factor`` of a step with kept factors."""
+    return decay[i]
+
+
+@jit(inline="always")
+def gms_elements(factor, element_force, slip_direction, stiffness, weight, factors,
                  capacity_scale, direction, displacement, decay_rate):
     """Advance GMS elements over one step at constant velocity; return the sum of forces.
 
     Parameters
     ----------
+    factor : function
+        :func:`computed_decay` (``factors`` is the ``1/alpha`` row) or
+        :func:`given_decay` (``factors`` is the row of decay factors,
+        :func:`decay_factors`): element ``i``'s factor is
+        ``factor(factors, decay_rate, i)``, the same number either way.
     capacity_scale : float
         ``g(v)`` [N]; element ``i`` slips at ``alpha_i g(v)``.
     direction : float
@@ -143,9 +162,9 @@ def gms_elements(element_force, slip_direction, stiffness, weight, inverse_weigh
     """
     total = 0.0
     for i in range(element_force.shape[0]):
-        force, slip = gms_element(element_force[i], slip_direction[i], stiffness[i], weight[i],
-                                  inverse_weight[i], capacity_scale, direction, displacement,
-                                  decay_rate)
+        force, slip = gms_decayed_element(element_force[i], slip_direction[i], stiffness[i],
+                                          weight[i], capacity_scale, direction, displacement,
+                                          factor(factors, decay_rate, i))
         element_force[i] = force
         slip_direction[i] = slip
         total += force
@@ -153,20 +172,13 @@ def gms_elements(element_force, slip_direction, stiffness, weight, inverse_weigh
 
 
 @jit(inline="always")
-def gms_element(force, slip, stiffness, weight, inverse_weight, capacity_scale, direction,
-                displacement, decay_rate):
-    """One GMS element over one step (:func:`gms_elements`): its new force and slip direction.
-
-    Branch-free (selects), so that a loop over elements vectorises.
-    """
-    return gms_decayed_element(force, slip, stiffness, weight, capacity_scale, direction,
-                               displacement, decay_exp(decay_rate * inverse_weight))
-
-
-@jit(inline="always")
 def gms_decayed_element(force, slip, stiffness, weight, capacity_scale, direction,
                         displacement, decay):
-    """:func:`gms_element` with its decay factor ``exp(decay_rate / alpha_i)`` given."""
+    """One GMS element over one step (:func:`gms_elements`): its new force and slip direction.
+
+    ``decay`` is its factor ``exp(-C h / (alpha_i g))``.  Branch-free (selects),
+    so that a loop over elements vectorises.
+    """
     capacity = weight * capacity_scale
     target = direction * capacity
     relaxed = target + (force - target) * decay
@@ -178,27 +190,27 @@ def gms_decayed_element(force, slip, stiffness, weight, capacity_scale, directio
 
 
 @jit(inline="always")
-def gms_trial_elements(element_force, slip_direction, stiffness, weight, inverse_weight,
+def gms_trial_elements(factor, element_force, slip_direction, stiffness, weight, factors,
                        capacity_scale, direction, displacement, decay_rate):
     """:func:`gms_elements` without storing: ``(sum of forces, summed stiffness in stick)``.
 
-    Each element's new force and slip direction as :func:`gms_element`
+    Each element's new force and slip direction as :func:`gms_elements`
     gives them; the second sum is what :func:`stuck_stiffness` would sum
     over the elements after the step.
     """
     total = 0.0
     stuck = 0.0
     for i in range(element_force.shape[0]):
-        force, slip = gms_element(element_force[i], slip_direction[i], stiffness[i], weight[i],
-                                  inverse_weight[i], capacity_scale, direction, displacement,
-                                  decay_rate)
+        force, slip = gms_decayed_element(element_force[i], slip_direction[i], stiffness[i],
+                                          weight[i], capacity_scale, direction, displacement,
+                                          factor(factors, decay_rate, i))
         total += force
         stuck += stiffness[i] if slip == 0.0 else 0.0
     return total, stuck
 
 
 @jit(inline="always")
-def gms_kept_elements(element_force, slip_direction, stiffness, weight, inverse_weight,
+def gms_kept_elements(factor, element_force, slip_direction, stiffness, weight, factors,
                       capacity_scale, direction, displacement, decay_rate, out_force, out_slip):
     """:func:`gms_trial_elements` that also writes each element's new force and slip direction.
 
@@ -208,9 +220,9 @@ def gms_kept_elements(element_force, slip_direction, stiffness, weight, inverse_
     total = 0.0
     stuck = 0.0
     for i in range(element_force.shape[0]):
-        force, slip = gms_element(element_force[i], slip_direction[i], stiffness[i], weight[i],
-                                  inverse_weight[i], capacity_scale, direction, displacement,
-                                  decay_rate)
+        force, slip = gms_decayed_element(element_force[i], slip_direction[i], stiffness[i],
+                                          weight[i], capacity_scale, direction, displacement,
+                                          factor(factors, decay_rate, i))
         out_force[i] = force
         out_slip[i] = slip
         total += force
@@ -220,62 +232,15 @@ def gms_kept_elements(element_force, slip_direction, stiffness, weight, inverse_
 
 @jit(inline="always")
 def decay_factors(inverse_weight, decay_rate, out):
-    """``out[i] = exp(decay_rate / alpha_i)``: the factors :func:`gms_element` computes inline.
+    """``out[i] = exp(decay_rate / alpha_i)``: the factors :func:`computed_decay` gives one by one.
 
     The same expression (``decay_rate * inverse_weight[i]`` through
-    :func:`polind.kernels.fastexp.decay_exp`), so that a loop of
-    :func:`gms_decayed_element` on these factors gives what
-    :func:`gms_elements` gives, to the bit.
+    :func:`polind.kernels.fastexp.decay_exp`) as :func:`computed_decay`, so that
+    :func:`gms_elements` with these factors (:func:`given_decay`) gives what it
+    gives computing them, to the bit.
     """
     for i in range(out.shape[0]):
         out[i] = decay_exp(decay_rate * inverse_weight[i])
-
-
-@jit(inline="always")
-def gms_decayed_elements(element_force, slip_direction, stiffness, weight, decay,
-                         capacity_scale, direction, displacement):
-    """:func:`gms_elements` with each element's decay factor given (:func:`decay_factors`)."""
-    total = 0.0
-    for i in range(element_force.shape[0]):
-        force, slip = gms_decayed_element(element_force[i], slip_direction[i], stiffness[i],
-                                          weight[i], capacity_scale, direction, displacement,
-                                          decay[i])
-        element_force[i] = force
-        slip_direction[i] = slip
-        total += force
-    return total
-
-
-@jit(inline="always")
-def gms_decayed_trial_elements(element_force, slip_direction, stiffness, weight, decay,
-                               capacity_scale, direction, displacement):
-    """:func:`gms_trial_elements` with each element's decay factor given."""
-    total = 0.0
-    stuck = 0.0
-    for i in range(element_force.shape[0]):
-        force, slip = gms_decayed_element(element_force[i], slip_direction[i], stiffness[i],
-                                          weight[i], capacity_scale, direction, displacement,
-                                          decay[i])
-        total += force
-        stuck += stiffness[i] if slip == 0.0 else 0.0
-    return total, stuck
-
-
-@jit(inline="always")
-def gms_decayed_kept_elements(element_force, slip_direction, stiffness, weight, decay,
-                              capacity_scale, direction, displacement, out_force, out_slip):
-    """:func:`gms_kept_elements` with each element's decay factor given."""
-    total = 0.0
-    stuck = 0.0
-    for i in range(element_force.shape[0]):
-        force, slip = gms_decayed_element(element_force[i], slip_direction[i], stiffness[i],
-                                          weight[i], capacity_scale, direction, displacement,
-                                          decay[i])
-        out_force[i] = force
-        out_slip[i] = slip
-        total += force
-        stuck += stiffness[i] if slip == 0.0 else 0.0
-    return total, stuck
 
 
 # --- the stepping contract (polind.kernels.contract) of the element models ---------------
@@ -439,12 +404,23 @@ def maxwell_slip_block(scalars, table, state, source_t, source_motion, t, motion
 
 
 @jit(inline="always")
-def gms_step_scaled(scalars, table, element_force, slip_direction, step, displacement,
-                    step_velocity, sample_velocity, coulomb_force, static_force):
+def inverse_row(scalars, table, step, g):
+    """The ``1/alpha`` row: the ``factors`` of :func:`computed_decay` (the GMS model's own)."""
+    return table[ELEMENT_INVERSE]
+
+
+@jit(inline="always")
+def gms_step_scaled(factor, factor_row, scalars, table, element_force, slip_direction, step,
+                    displacement, step_velocity, sample_velocity, coulomb_force, static_force):
     """One GMS step (:ref:`guide-gms`) with the given Stribeck levels; the element-model core.
 
     A step with zero velocity changes nothing (``sgn(0) = 0``: no stick
-    growth, no slip relaxation) and keeps every element's mode.
+    growth, no slip relaxation) and keeps every element's mode.  The
+    elements' decay factors are ``factor(factor_row(scalars, table, step,
+    g), -C h / g, i)`` (:func:`gms_elements`): :func:`computed_decay` of
+    :func:`inverse_row` computes each in the loop; a model that keeps them
+    between steps gives :func:`given_decay` of its row
+    (:func:`polind.kernels.pol_ind.decay_row`): the same numbers, to the bit.
     """
     if step_velocity == 0.0:
         total = element_sum(element_force)
@@ -452,8 +428,8 @@ def gms_step_scaled(scalars, table, element_force, slip_direction, step, displac
         g = stribeck_curve(step_velocity, coulomb_force, static_force,
                            scalars[STRIBECK_VELOCITY], scalars[STRIBECK_EXPONENT],
                            scalars[STRIBECK_SHAPE])
-        total = gms_elements(element_force, slip_direction, table[ELEMENT_STIFFNESS],
-                             table[ELEMENT_CAPACITY], table[ELEMENT_INVERSE], g,
+        total = gms_elements(factor, element_force, slip_direction, table[ELEMENT_STIFFNESS],
+                             table[ELEMENT_CAPACITY], factor_row(scalars, table, step, g), g,
                              sign(step_velocity), displacement,
                              -scalars[ATTRACTION] * step / g)
     return total + scalars[VISCOUS] * sample_velocity
@@ -463,8 +439,9 @@ def gms_step_scaled(scalars, table, element_force, slip_direction, step, displac
 def gms_step(scalars, table, state, step, displacement, step_velocity, sample_velocity,
              normal_load):
     n = table.shape[1]
-    return gms_step_scaled(scalars, table, state[:n], state[n:2 * n], step, displacement,
-                           step_velocity, sample_velocity, scalars[COULOMB], scalars[STATIC])
+    return gms_step_scaled(computed_decay, inverse_row, scalars, table, state[:n],
+                           state[n:2 * n], step, displacement, step_velocity, sample_velocity,
+                           scalars[COULOMB], scalars[STATIC])
 
 
 @jit
@@ -479,13 +456,15 @@ def gms_tangent(scalars, table, state, step):
 
 
 @jit(inline="always")
-def gms_trial_scaled(scalars, table, element_force, slip_direction, out, keep, step,
-                     displacement, step_velocity, sample_velocity, coulomb_force, static_force):
+def gms_trial_scaled(factor, factor_row, scalars, table, element_force, slip_direction, out,
+                     keep, step, displacement, step_velocity, sample_velocity, coulomb_force,
+                     static_force):
     """:func:`gms_step_scaled` without storing: ``(F, tangent, written)``.
 
     The force the step returns and the tangent of the state it leaves
     (``gms_tangent``'s), in one pass over the elements
-    (:func:`gms_trial_elements`).  With ``keep`` the new element forces and
+    (:func:`gms_trial_elements`; the decay factors as in
+    :func:`gms_step_scaled`).  With ``keep`` the new element forces and
     slip directions go to ``out`` (``2 n`` entries, the layout of the
     state: ``written = 2 n``); a step with zero velocity changes nothing
     (``written = 0``), so its tangent is the state's own.
@@ -500,18 +479,18 @@ def gms_trial_scaled(scalars, table, element_force, slip_direction, out, keep, s
         g = stribeck_curve(step_velocity, coulomb_force, static_force,
                            scalars[STRIBECK_VELOCITY], scalars[STRIBECK_EXPONENT],
                            scalars[STRIBECK_SHAPE])
+        factors = factor_row(scalars, table, step, g)
+        decay_rate = -scalars[ATTRACTION] * step / g
         if keep:
             written = 2 * n
-            total, stuck = gms_kept_elements(element_force, slip_direction, stiffness,
-                                             table[ELEMENT_CAPACITY], table[ELEMENT_INVERSE], g,
-                                             sign(step_velocity), displacement,
-                                             -scalars[ATTRACTION] * step / g, out[:n],
-                                             out[n:2 * n])
+            total, stuck = gms_kept_elements(factor, element_force, slip_direction, stiffness,
+                                             table[ELEMENT_CAPACITY], factors, g,
+                                             sign(step_velocity), displacement, decay_rate,
+                                             out[:n], out[n:2 * n])
         else:
-            total, stuck = gms_trial_elements(element_force, slip_direction, stiffness,
-                                              table[ELEMENT_CAPACITY], table[ELEMENT_INVERSE],
-                                              g, sign(step_velocity), displacement,
-                                              -scalars[ATTRACTION] * step / g)
+            total, stuck = gms_trial_elements(factor, element_force, slip_direction, stiffness,
+                                              table[ELEMENT_CAPACITY], factors, g,
+                                              sign(step_velocity), displacement, decay_rate)
     return (total + scalars[VISCOUS] * sample_velocity, step * stuck + scalars[VISCOUS],
             written)
 
@@ -521,62 +500,6 @@ def gms_trial_step(scalars, table, state, out, keep, step, displacement, step_ve
                    sample_velocity, normal_load):
     """The read-only trial of GMS (:func:`polind.kernels.contract.no_trial`)."""
     n = table.shape[1]
-    return gms_trial_scaled(scalars, table, state[:n], state[n:2 * n], out, keep, step,
-                            displacement, step_velocity, sample_velocity, scalars[COULOMB],
-                            scalars[STATIC])
-
-
-@jit(inline="always")
-def gms_step_decayed(decay_function, scalars, table, element_force, slip_direction, step,
-                     displacement, step_velocity, sample_velocity, coulomb_force, static_force):
-    """:func:`gms_step_scaled` with the decay factors from ``decay_function``.
-
-    ``decay_function(scalars, table, step, g)`` gives the row of factors
-    ``exp(-C h / (alpha_i g))`` as :func:`decay_factors` computes them (a
-    model may keep them between steps: :func:`polind.kernels.pol_ind.decay_row`);
-    the forces are :func:`gms_step_scaled`'s, to the bit.
-    """
-    if step_velocity == 0.0:
-        total = element_sum(element_force)
-    else:
-        g = stribeck_curve(step_velocity, coulomb_force, static_force,
-                           scalars[STRIBECK_VELOCITY], scalars[STRIBECK_EXPONENT],
-                           scalars[STRIBECK_SHAPE])
-        total = gms_decayed_elements(element_force, slip_direction, table[ELEMENT_STIFFNESS],
-                                     table[ELEMENT_CAPACITY],
-                                     decay_function(scalars, table, step, g), g,
-                                     sign(step_velocity), displacement)
-    return total + scalars[VISCOUS] * sample_velocity
-
-
-@jit(inline="always")
-def gms_trial_decayed(decay_function, scalars, table, element_force, slip_direction, out, keep,
-                      step, displacement, step_velocity, sample_velocity, coulomb_force,
-                      static_force):
-    """:func:`gms_trial_scaled` with the decay factors from ``decay_function``.
-
-    As in :func:`gms_step_decayed`; the result is :func:`gms_trial_scaled`'s, to the bit.
-    """
-    stiffness = table[ELEMENT_STIFFNESS]
-    n = element_force.shape[0]
-    written = 0
-    if step_velocity == 0.0:
-        total = element_sum(element_force)
-        stuck = stuck_stiffness(stiffness, slip_direction)
-    else:
-        g = stribeck_curve(step_velocity, coulomb_force, static_force,
-                           scalars[STRIBECK_VELOCITY], scalars[STRIBECK_EXPONENT],
-                           scalars[STRIBECK_SHAPE])
-        decay = decay_function(scalars, table, step, g)
-        if keep:
-            written = 2 * n
-            total, stuck = gms_decayed_kept_elements(element_force, slip_direction, stiffness,
-                                                     table[ELEMENT_CAPACITY], decay, g,
-                                                     sign(step_velocity), displacement,
-                                                     out[:n], out[n:2 * n])
-        else:
-            total, stuck = gms_decayed_trial_elements(element_force, slip_direction, stiffness,
-                                                      table[ELEMENT_CAPACITY], decay, g,
-                                                      sign(step_velocity), displacement)
-    return (total + scalars[VISCOUS] * sample_velocity, step * stuck + scalars[VISCOUS],
-            written)
+    return gms_trial_scaled(computed_decay, inverse_row, scalars, table, state[:n],
+                            state[n:2 * n], out, keep, step, displacement, step_velocity,
+                            sample_velocity, scalars[COULOMB], scalars[STATIC])

@@ -72,9 +72,9 @@ from polind.kernels import jit
 from polind.kernels.elements import (ATTRACTION, ELEMENT_CAPACITY, ELEMENT_INVERSE,
                                      ELEMENT_STIFFNESS, STRIBECK_EXPONENT, STRIBECK_SHAPE,
                                      STRIBECK_VELOCITY, VISCOUS, decay_factors,
-                                     element_properties, element_sum, gms_decayed_element,
-                                     gms_force, gms_step_decayed, gms_trial_decayed,
-                                     stuck_stiffness)
+                                     element_properties, element_sum, given_decay,
+                                     gms_decayed_element, gms_force, gms_step_scaled,
+                                     gms_trial_scaled, stuck_stiffness)
 from polind.kernels.fastexp import decay_exp
 from polind.kernels.separation import (DIRECT, direct_lower_bound, newton_separation,
                                        predicted_start, statistical_separation_only)
@@ -510,10 +510,10 @@ def settled_step_with(set_load_function, scalars, table, state, step, displaceme
     elif scalars[TABLE_STALE] != 0.0:
         refresh_shares(scalars, table)
     n = table.shape[1]
-    return gms_step_decayed(decay_row, scalars, table, state[:n], state[n:2 * n], step,
-                            displacement, step_velocity, sample_velocity,
-                            scalars[KINETIC_COEFFICIENT] * normal_load,
-                            scalars[STATIC_COEFFICIENT] * normal_load)
+    return gms_step_scaled(given_decay, decay_row, scalars, table, state[:n], state[n:2 * n],
+                           step, displacement, step_velocity, sample_velocity,
+                           scalars[KINETIC_COEFFICIENT] * normal_load,
+                           scalars[STATIC_COEFFICIENT] * normal_load)
 
 
 @jit
@@ -547,7 +547,7 @@ def pol_ind_trial_step(scalars, table, state, out, keep, step, displacement, ste
 
     At the load the table was last brought to, the step is the GMS step of
     the table (:func:`settled_step_with`): ``(F, tangent, written)`` from
-    :func:`polind.kernels.elements.gms_trial_decayed` (with ``keep``, the
+    :func:`polind.kernels.elements.gms_trial_scaled` (with ``keep``, the
     new element forces and slip directions in ``out``), after the weight
     rows are brought up to date if a step left them stale, as the step would
     (the writes, to the table and its decay factors (:func:`decay_row`), are
@@ -561,10 +561,10 @@ def pol_ind_trial_step(scalars, table, state, out, keep, step, displacement, ste
     if scalars[TABLE_STALE] != 0.0:
         refresh_shares(scalars, table)
     n = table.shape[1]
-    return gms_trial_decayed(decay_row, scalars, table, state[:n], state[n:2 * n], out, keep,
-                             step, displacement, step_velocity, sample_velocity,
-                             scalars[KINETIC_COEFFICIENT] * normal_load,
-                             scalars[STATIC_COEFFICIENT] * normal_load)
+    return gms_trial_scaled(given_decay, decay_row, scalars, table, state[:n], state[n:2 * n],
+                            out, keep, step, displacement, step_velocity, sample_velocity,
+                            scalars[KINETIC_COEFFICIENT] * normal_load,
+                            scalars[STATIC_COEFFICIENT] * normal_load)
 
 
 @jit(inline="always")
@@ -603,10 +603,10 @@ def fixed_load_step(scalars, table, state, step, displacement, step_velocity, sa
     elif scalars[TABLE_STALE] != 0.0:
         refresh_shares(scalars, table)
     n = table.shape[1]
-    return gms_step_decayed(decay_row, scalars, table, state[:n], state[n:2 * n], step,
-                            displacement, step_velocity, sample_velocity,
-                            scalars[KINETIC_COEFFICIENT] * normal_load,
-                            scalars[STATIC_COEFFICIENT] * normal_load)
+    return gms_step_scaled(given_decay, decay_row, scalars, table, state[:n], state[n:2 * n],
+                           step, displacement, step_velocity, sample_velocity,
+                           scalars[KINETIC_COEFFICIENT] * normal_load,
+                           scalars[STATIC_COEFFICIENT] * normal_load)
 
 
 @jit
