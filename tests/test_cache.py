@@ -79,7 +79,8 @@ MOUNTED = ("import numpy as np, polind\n"
            "print(repr(float(polind.simulate(model, t, x=1e-4 * t).force[-1])))\n"
            "from polind.kernels.generated import lugre\n"
            "print(sum(lugre.mounted_path.stats.cache_hits.values()),\n"
-           "      sum(lugre.mounted_path.stats.cache_misses.values()))\n")
+           "      sum(lugre.mounted_path.stats.cache_misses.values()))\n"
+           "print(len(lugre.spring_trial.signatures))\n")
 
 
 def test_the_mounted_path_is_cached_after_its_first_process(tmp_path):
@@ -89,11 +90,14 @@ def test_the_mounted_path_is_cached_after_its_first_process(tmp_path):
         done = subprocess.run([sys.executable, "-c", MOUNTED], env=env, capture_output=True,
                               text=True, timeout=600)
         assert done.returncode == 0, done.stderr
-        outputs.append(done.stdout.split("\n")[:2])
-    (first, cold), (second, warm) = outputs
+        outputs.append(done.stdout.split("\n")[:3])
+    (first, cold, trials), (second, warm, _) = outputs
     assert first == second
     assert cold == "0 1"        # compiled in the first process
     assert warm == "1 0"        # loaded from the cache in the second
+    # The spring's trial compiled once: the solver's first call (keep false) and its
+    # later ones pass `keep` of one type (a literal False would be a second type).
+    assert trials == "1"
 
 
 SAME_RUN = ("import numpy as np, polind\n"

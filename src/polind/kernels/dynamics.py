@@ -206,9 +206,12 @@ def solve_step(trial, tangent_function, memoryless, rest_capacity, force_scale,
         residual_at_zero = direction * capacity - known  # R(0+) or R(0-)
         tangent_at_zero = tangent_function(scalars, table, state, step)
     else:
+        # keep: false, typed as the loop's `keep` below (a literal False without reuse,
+        # a computed boolean with it): a literal here and a computed boolean there
+        # would compile the trial, and the model's step inlined in it, twice.
         force, tangent_at_zero, written = trial(memoryless, mount, scalars, table, state,
                                                 scratch, 0.0, step, sample_slope, sample_offset,
-                                                normal_load, False)
+                                                normal_load, bool(0))
         residual_at_zero = force - known
         if abs(residual_at_zero) <= max(tolerance,
                                          0.5 * (inertia + tangent_at_zero) * quantum):
@@ -233,7 +236,7 @@ def solve_step(trial, tangent_function, memoryless, rest_capacity, force_scale,
     best_residual = np.inf
     jump_checked = False
     for iteration in range(MAX_ITERATIONS):
-        keep = reuse and abs(last_residual) <= KEEP_BELOW * tolerance
+        keep = bool(reuse and abs(last_residual) <= KEEP_BELOW * tolerance)
         force, tangent, written = trial(memoryless, mount, scalars, table, state, scratch,
                                         velocity, step, sample_slope, sample_offset, normal_load,
                                         keep)
