@@ -137,3 +137,12 @@ def test_the_readme_model_table_says_what_the_models_say():
     expected = [f"| `{name}` | {MODEL_TYPES[name].form} | {MODEL_TYPES[name].purpose} |"
                 for name in listed]
     assert rows == expected, "\n".join(expected)
+
+
+def test_no_page_shows_a_path_of_the_machine_that_built_it(site):
+    # A value computed from __file__ (polind.kernels.cache.PACKAGE_DIR) printed the
+    # builder's checkout into the API pages.
+    out, _, _ = site
+    here = str(Path(polind.__file__).resolve().parents[2])
+    shown = [page.name for page in out.rglob("*.html") if here in page.read_text()]
+    assert not shown, f"{here} appears in {shown}"

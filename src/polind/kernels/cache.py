@@ -28,6 +28,9 @@ from pathlib import Path
 from numba.core import caching, config
 
 #: The folder of polind's sources: files under it are polind's kernels to cache.
+#: (Its value, a path on the machine that built the documentation, is not shown.)
+#:
+#: :meta hide-value:
 PACKAGE_DIR = Path(__file__).resolve().parents[1]
 KERNELS_DIR = Path(__file__).resolve().parent
 
