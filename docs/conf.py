@@ -118,8 +118,9 @@ sphinx_gallery_conf = {
     "download_all_examples": False,
     "show_signature": False,
     "remove_config_comments": True,
-    # A script that cannot run (its data absent) is reported, and the rest of the site built.
-    "only_warn_on_example_error": True,
+    # The data the scripts read ships with polind: a script that fails is a broken
+    # example, and `make docs` fails with it (after building the rest of the site).
+    "only_warn_on_example_error": False,
     "default_thumb_file": str(DOCS / "_static" / "thumbnail.png"),
     "line_numbers": False,
     # The timing pages load a sortable table from a CDN: not written, so every page

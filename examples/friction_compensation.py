@@ -200,7 +200,7 @@ def main(argv=None) -> int:
     started = time.perf_counter()
 
     models = demo_models()
-    plant, compensator = models["Pol-Ind"], models["GMS"]
+    (plant, _), (compensator, _) = models["Pol-Ind"], models["GMS"]
     t = np.arange(int(round(DURATION / TIME_STEP)) + 1) * TIME_STEP
     r, dr = reference(t)
     runs = {"none": run_loop(plant, t, r, dr),

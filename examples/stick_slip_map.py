@@ -38,8 +38,8 @@ import time
 import numpy as np
 
 import polind
-from polind.demo import LUGRE_1995
 from polind.dynamics import System
+from polind.models import LuGre
 from polind.models.pol_ind import default_table
 from polind.sweeps import Sweep, read_results
 
@@ -50,7 +50,9 @@ METRICS = ["stuck_fraction", "stick_slip_amplitude", "stick_slip_period"]
 MAPS = {
     "pol_ind": ("Pol-Ind (default, 10 kg)", default_table(), 10.0, (1e-4, 1e-1), (1e3, 1e6),
                 20.0, 1e-4),
-    "lugre": ("LuGre (1995, 1 kg)", dict(LUGRE_1995), 1.0, (3e-3, 1.0), (1.0, 1e3), 100.0, 2e-3),
+    # LuGre.example() is the parameter set of Canudas de Wit et al. (1995).
+    "lugre": ("LuGre (1995, 1 kg)", LuGre.example().to_dict()["model"], 1.0, (3e-3, 1.0),
+              (1.0, 1e3), 100.0, 2e-3),
 }
 
 #: A run sticks and slips when its body is stuck at least this fraction of the time.
