@@ -29,9 +29,10 @@ residual has kinks (an element that sticks or slips one sample earlier), so
 the rule is also checked after each accepted iteration.
 
 A start also stops when an accepted step ``d`` is too small for the data to
-see and gained less than one noise variance: ``|J d|^2 < NOISE_SHARE s^2``,
-(:data:`STEP_SHARE`), with ``J`` the Jacobian the step was taken from (the step moves the free
-values by less than a tenth of a standard error in their joint metric), and
+see and gained less than one noise variance: ``|J d|^2 < STEP_SHARE s^2``
+(:data:`STEP_SHARE`), with ``J`` the Jacobian the step was taken from (the step
+moves the free values by less than a tenth of a standard error in their joint
+metric), and
 a decrease of the sum of squares below ``s^2``.  On a smooth sum of squares
 the two rules end a fit together (near the minimum a step's decrease is
 ``|J d|^2``); on a rough one (a spring solve that passes from stick to slip a
@@ -300,15 +301,16 @@ class _Problem:
             known = pending.pop("jac", None)
             if known is not None and np.array_equal(x, x0):
                 return known
+            residual = residuals(x)
             if accepted["jac"] is not None and not np.array_equal(x, x0):
                 # x was just accepted (SciPy asks for the Jacobian there once, next): the
                 # stop rules are judged first, and a start they end does not take it.
-                stop["message"] = self._stop_rule(accepted, x, residuals(x), active.size)
+                stop["message"] = self._stop_rule(accepted, x, residual, active.size)
                 if stop["message"] is not None:
                     stop["skipped"] = True
                     return accepted["jac"]       # not used: the callback ends the fit
-            jac = self.jacobian(unpack(x), residuals(x), active)
-            accepted.update(rss=float(residuals(x) @ residuals(x)), x=x.copy(), jac=jac)
+            jac = self.jacobian(unpack(x), residual, active)
+            accepted.update(rss=float(residual @ residual), x=x.copy(), jac=jac)
             return jac
 
         def end(intermediate_result):

@@ -206,9 +206,9 @@ def solve_step(trial, tangent_function, memoryless, rest_capacity, force_scale,
         residual_at_zero = direction * capacity - known  # R(0+) or R(0-)
         tangent_at_zero = tangent_function(scalars, table, state, step)
     else:
-        # keep: false, typed as the loop's `keep` below (a literal False without reuse,
-        # a computed boolean with it): a literal here and a computed boolean there
-        # would compile the trial, and the model's step inlined in it, twice.
+        # keep: a computed false (bool(0)), of the type of the loop's `keep` below
+        # (bool(...), computed with or without reuse): a literal False here would
+        # compile the trial, and the model's step inlined in it, a second time.
         force, tangent_at_zero, written = trial(memoryless, mount, scalars, table, state,
                                                 scratch, 0.0, step, sample_slope, sample_offset,
                                                 normal_load, bool(0))

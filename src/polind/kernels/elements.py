@@ -234,13 +234,11 @@ def gms_kept_elements(factor, element_force, slip_direction, stiffness, weight, 
 def decay_factors(inverse_weight, decay_rate, out):
     """``out[i] = exp(decay_rate / alpha_i)``: the factors :func:`computed_decay` gives one by one.
 
-    The same expression (``decay_rate * inverse_weight[i]`` through
-    :func:`polind.kernels.fastexp.decay_exp`) as :func:`computed_decay`, so that
-    :func:`gms_elements` with these factors (:func:`given_decay`) gives what it
-    gives computing them, to the bit.
+    Each is :func:`computed_decay`'s, so that :func:`gms_elements` with these
+    factors (:func:`given_decay`) gives what it gives computing them, to the bit.
     """
     for i in range(out.shape[0]):
-        out[i] = decay_exp(decay_rate * inverse_weight[i])
+        out[i] = computed_decay(inverse_weight, decay_rate, i)
 
 
 # --- the stepping contract (polind.kernels.contract) of the element models ---------------

@@ -342,6 +342,13 @@ def fresh_elements(element_force, slip_direction, stiffness, breakaway, heights,
 
 
 @jit(inline="always")
+def forget_decay_rows(scalars):
+    """Mark both :data:`DECAY` rows as holding no kept factors (:func:`decay_row`)."""
+    for key in range(DECAY_KEYS, DECAY_KEYS + 4):
+        scalars[key] = math.nan
+
+
+@jit(inline="always")
 def load_step_with(capacities, scalars, table, state, step, displacement, step_velocity,
                    sample_velocity, normal_load):
     """A moving step at a new normal load: :func:`set_load` and the GMS step, fused.
@@ -363,8 +370,7 @@ def load_step_with(capacities, scalars, table, state, step, displacement, step_v
                        scalars[STRIBECK_VELOCITY], scalars[STRIBECK_EXPONENT],
                        scalars[STRIBECK_SHAPE])
     # The factors go to a decay row, which then holds no kept factors (decay_row).
-    for key in range(DECAY_KEYS, DECAY_KEYS + 4):
-        scalars[key] = math.nan
+    forget_decay_rows(scalars)
     total_force = fresh_elements(state[:n], state[n:2 * n], table[ELEMENT_STIFFNESS], breakaway,
                                  state[2 * n:3 * n], previous_separation, total, reciprocal,
                                  static_force, g, sign(step_velocity), displacement,
@@ -474,8 +480,7 @@ def decay_row(scalars, table, step, g):
         # New weights: neither row holds their factors.
         for j in range(kept.shape[0]):
             kept[j] = inverse_weight[j]
-        for key in range(DECAY_KEYS, DECAY_KEYS + 4):
-            scalars[key] = math.nan
+        forget_decay_rows(scalars)
         entry = 0
     factors = table[DECAY + entry]
     decay_factors(inverse_weight, numerator / g, factors)
