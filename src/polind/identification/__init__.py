@@ -107,7 +107,8 @@ One idea each; everything public is imported here:
 * ``solver`` -- :func:`identify`: the least-squares solve from every start, a
   free value that cannot move the force fixed (:data:`STILL_COLUMN`), a start stopped
   once it gains less than the noise (:data:`NOISE_SHARE`) or its step moves the force
-  by less than the noise can show (:data:`STEP_SHARE`), its threads;
+  by less than the noise can show (:data:`STEP_SHARE`), the noise's variance taken
+  with the residuals' correlation (:func:`autocorrelation_time`), its threads;
 * ``results`` -- :class:`polind.FitResult`, its standard errors and warnings;
 * ``credibility`` -- the warnings on a fit as a whole (:ref:`guide-fit-warnings`):
   a force level beyond the data, residuals with structure (:func:`runs_test`), a
@@ -124,7 +125,8 @@ One idea each; everything public is imported here:
 
 from polind.identification.comparison import COLOURS, COLUMNS, Comparison, compare
 from polind.identification.credibility import (BREAKAWAY_LEVEL, HOLDOUT_RATIO, RUNS_SHARE, RUNS_Z,
-                                               SLIDING_LEVEL, runs_test)
+                                               SLIDING_LEVEL, autocorrelation_time,
+                                               runs_test)
 from polind.identification.data import MeasuredData, holdout_split, measured_data
 from polind.identification.memory import fit_bytes_per_sample
 from polind.identification.parameters import (DEFAULT_RANGES, UNSCALED_RANGE, default_bounds,
@@ -143,4 +145,4 @@ __all__ = ["FitResult", "identify", "parse_fit", "default_bounds", "identify_max
            "DEFAULT_SPREAD_STARTS", "SPREAD_SPAN", "spread_points", "STILL_COLUMN",
            "NOISE_SHARE", "STEP_SHARE",
            "SLIDING_LEVEL", "BREAKAWAY_LEVEL", "RUNS_Z", "RUNS_SHARE", "HOLDOUT_RATIO",
-           "runs_test"]
+           "runs_test", "autocorrelation_time"]

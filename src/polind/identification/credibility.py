@@ -27,6 +27,16 @@ three signs that its result should not be trusted:
 * **a held-out error far above the in-sample one**: ``holdout_rms_error``
   above :data:`HOLDOUT_RATIO` times ``rms_error``: the model learned the
   fitted part rather than the contact.
+
+The residuals of a friction model on a measured record are rarely
+independent: what the model misses is a pattern of the force, so a residual
+is much like its neighbours.  :func:`autocorrelation_time` measures how many
+samples they stay alike (the integrated autocorrelation time ``tau``): the
+record then holds about ``n / tau`` independent residuals.  The solver's stop
+rules judge a gain in the sum of squares against ``tau`` noise variances
+(:mod:`polind.identification.solver`), and the structure warning states ``tau``
+with what it means for the standard errors, which are those of independent
+residuals.
 """
 
 from __future__ import annotations
@@ -34,9 +44,10 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from scipy import signal
 
 __all__ = ["SLIDING_LEVEL", "BREAKAWAY_LEVEL", "RUNS_Z", "RUNS_SHARE", "HOLDOUT_RATIO",
-           "runs_test", "credibility_warnings"]
+           "CORRELATION_WINDOW", "runs_test", "autocorrelation_time", "credibility_warnings"]
 
 #: The sliding level may exceed the largest measured ``|F|`` by this factor without a warning.
 SLIDING_LEVEL = 1.05
@@ -50,6 +61,9 @@ RUNS_SHARE = 0.5
 HOLDOUT_RATIO = 1.5
 # Residuals smaller than this share of the force's RMS are not tested for structure.
 _NUMERICAL = 1e-6
+#: :func:`autocorrelation_time` sums the autocorrelations up to the first lag ``M`` with
+#: ``M >= CORRELATION_WINDOW * tau(M)`` (Sokal's automatic window).
+CORRELATION_WINDOW = 5.0
 
 
 def runs_test(residual) -> tuple[int, float, float]:
@@ -73,6 +87,32 @@ def runs_test(residual) -> tuple[int, float, float]:
     variance = (expected - 1.0) * (expected - 2.0) / (n - 1.0)
     z = (runs - expected) / math.sqrt(variance) if variance > 0.0 else 0.0
     return runs, expected, z
+
+
+def autocorrelation_time(residual) -> float:
+    """The integrated autocorrelation time ``tau`` of ``residual``, in samples (at least 1).
+
+    ``tau = 1 + 2 (rho_1 + ... + rho_M)``, with ``rho_k`` the autocorrelation
+    of the residuals (less their mean) at lag ``k``, summed up to the first lag
+    ``M >= c tau(M)``, ``c =`` :data:`CORRELATION_WINDOW` (A. D. Sokal, *Monte
+    Carlo methods in statistical mechanics*, 1997, section 3): far enough to
+    take in the correlation, not so far that the noise of the estimated
+    ``rho_k`` at long lags swamps it.  Independent residuals give about 1, a
+    first-order autoregression of coefficient ``a`` gives ``(1 + a) / (1 - a)``.
+    ``n`` residuals hold about ``n / tau`` independent ones; ``tau`` is at most
+    ``n`` (all of them one), and 1 for fewer than two residuals or residuals
+    all equal.
+    """
+    values = np.asarray(residual, dtype=np.float64)
+    values = values - values.mean() if values.size else values
+    if values.size < 2 or not np.any(values):
+        return 1.0
+    covariance = signal.correlate(values, values, mode="full", method="fft")[values.size - 1:]
+    # 1 + 2 (rho_1 + ... + rho_M) for every M: the first M with M >= c tau(M) is the window.
+    times = 2.0 * np.cumsum(covariance / covariance[0]) - 1.0
+    windowed = np.flatnonzero(np.arange(times.size) >= CORRELATION_WINDOW * times)
+    tau = times[windowed[0]] if windowed.size else times[-1]
+    return float(min(max(tau, 1.0), values.size))
 
 
 def _levels(model, data) -> tuple[float, float] | None:
@@ -114,7 +154,10 @@ def credibility_warnings(model, data, residual, held_out=None) -> list[str]:
                          f"would change about {expected - 1:.0f} times (runs test z = "
                          f"{z:.3g}; warned below {RUNS_Z:g} with fewer than "
                          f"{RUNS_SHARE:g} of the expected runs): the model misses a pattern "
-                         "of the force.")
+                         f"of the force. They stay alike over about "
+                         f"{autocorrelation_time(residual):.3g} samples (their autocorrelation "
+                         "time), and the standard errors, which take them for independent, "
+                         "are too small by about its square root.")
     if held_out is not None and held_out > HOLDOUT_RATIO * rms:
         ratio = held_out / rms if rms > 0.0 else math.inf
         notes.append(f"The held-out RMS error of the fitted {model.type} model, "

@@ -20,20 +20,27 @@ there: it is fixed at that start and not iterated on, and the result reports
 it as not identifiable.
 
 A start stops when an iteration lowers the sum of squares by less than
-:data:`NOISE_SHARE` of the noise variance ``s^2 = RSS / (n - p)``: what is
-left to gain is below anything the data can tell apart, and on a long record
-the default ``tolerance`` alone would iterate on it.  The solver's ``ftol``
+:data:`NOISE_SHARE` of the noise variance ``tau s^2``, with ``s^2 = RSS / (n -
+p)`` and ``tau`` the residuals' integrated autocorrelation time at the point
+reached (:func:`~polind.identification.credibility.autocorrelation_time`, at
+most ``n - p``): what is left to gain is below anything the data can tell
+apart, and on a long record the default ``tolerance`` alone would iterate on
+it.  Independent residuals have ``tau`` near 1.  A friction model's residuals
+on a measured record stay alike over many samples (``tau`` of about 140 for
+Pol-Ind on the tribometer record), so the record holds about ``n / tau``
+independent residuals, and a gain of a few ``s^2`` in the sum of squares is
+what fitting one of them would give.  The solver's ``ftol``
 is at least ``NOISE_SHARE / (n - p)``, but SciPy applies it only to a step
 its model of the sum of squares predicted well, and a friction model's
 residual has kinks (an element that sticks or slips one sample earlier), so
 the rule is also checked after each accepted iteration.
 
 A start also stops when an accepted step ``d`` is too small for the data to
-see and gained less than one noise variance: ``|J d|^2 < STEP_SHARE s^2``
+see and gained less than one noise variance: ``|J d|^2 < STEP_SHARE tau s^2``
 (:data:`STEP_SHARE`), with ``J`` the Jacobian the step was taken from (the step
 moves the free values by less than a tenth of a standard error in their joint
-metric), and
-a decrease of the sum of squares below ``s^2``.  On a smooth sum of squares
+metric, with correlated residuals), and a decrease of the sum of squares
+below ``tau s^2``.  On a smooth sum of squares
 the two rules end a fit together (near the minimum a step's decrease is
 ``|J d|^2``); on a rough one (a spring solve that passes from stick to slip a
 sample earlier when a value moves by a millionth) the trust region shrinks
@@ -57,6 +64,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from polind.errors import InputError, ValidityWarning
+from polind.identification.credibility import autocorrelation_time
 from polind.identification.data import MeasuredData, holdout_split, measured_data
 from polind.identification.memory import fit_bytes_per_sample
 from polind.identification.parameters import build_free, model_at, param_value, parse_fit
@@ -77,15 +85,16 @@ _THREADED_SIMULATION = 5e-3
 #: zero: its free value cannot move the residual (it is fixed at its start).
 STILL_COLUMN = 1e-8
 #: A start stops when an iteration lowers the sum of squares by less than this share of
-#: the noise variance ``RSS / (n - p)``: a free value moves then by about a tenth of its
-#: standard error at most.
+#: the noise variance ``tau RSS / (n - p)`` (module docstring): a free value moves then by
+#: about a tenth of its standard error at most (with correlated residuals).
 NOISE_SHARE = 1e-2
 #: The solver's message of a start stopped by :data:`NOISE_SHARE` in the callback.
 NOISE_STOP = ("an iteration lowered the sum of squares by less than a hundredth of the noise "
               "variance")
 #: A start stops when an accepted step ``d`` moves the linearised force by
-#: ``|J d|^2`` below this share of the noise variance (and gained less than one noise
-#: variance): the free values moved by less than a tenth of a standard error.
+#: ``|J d|^2`` below this share of the noise variance ``tau RSS / (n - p)`` (and gained
+#: less than one noise variance): the free values moved by less than a tenth of a standard
+#: error (with correlated residuals).
 STEP_SHARE = 1e-2
 #: The solver's message of a start stopped by the step rule (module docstring).
 STEP_STOP = ("an iteration's step moved the force by less than a tenth of the noise (a tenth "
@@ -338,7 +347,8 @@ class _Problem:
         (``residual``), accepted after ``accepted`` (``rss``, ``x``, ``jac``); else None."""
         rss = float(residual @ residual)
         decrease = accepted["rss"] - rss
-        noise = rss / max(self.measured.size - varied, 1)
+        dof = max(self.measured.size - varied, 1)
+        noise = rss / dof * min(autocorrelation_time(residual), dof)
         if 0.0 < decrease < NOISE_SHARE * noise:
             return NOISE_STOP
         moved = accepted["jac"] @ (x - accepted["x"])
