@@ -124,15 +124,16 @@ One idea each; everything public is imported here:
 """
 
 from polind.identification.comparison import COLOURS, COLUMNS, Comparison, compare
-from polind.identification.credibility import (BREAKAWAY_LEVEL, HOLDOUT_RATIO, RUNS_SHARE, RUNS_Z,
-                                               SLIDING_LEVEL, autocorrelation_time,
+from polind.identification.credibility import (BREAKAWAY_LEVEL, CORRELATION_WINDOW, HOLDOUT_RATIO,
+                                               RUNS_SHARE, RUNS_Z, SLIDING_LEVEL,
+                                               autocorrelation_time,
                                                runs_test)
 from polind.identification.data import MeasuredData, holdout_split, measured_data
 from polind.identification.memory import fit_bytes_per_sample
 from polind.identification.parameters import (DEFAULT_RANGES, UNSCALED_RANGE, default_bounds,
                                               fittable_keys, parse_fit)
 from polind.identification.plot import plot_fit
-from polind.identification.results import FitResult
+from polind.identification.results import BOUND_SHARE, FitResult
 from polind.identification.solver import NOISE_SHARE, STEP_SHARE, STILL_COLUMN, identify
 from polind.identification.starts import DEFAULT_SPREAD_STARTS, SPREAD_SPAN, spread_points
 from polind.identification.structure import (identify_gms, identify_maxwell_slip,
@@ -143,6 +144,6 @@ __all__ = ["FitResult", "identify", "parse_fit", "default_bounds", "identify_max
            "fittable_keys", "measured_data", "MeasuredData", "holdout_split", "DEFAULT_RANGES",
            "UNSCALED_RANGE", "COLUMNS", "COLOURS", "Comparison", "compare",
            "DEFAULT_SPREAD_STARTS", "SPREAD_SPAN", "spread_points", "STILL_COLUMN",
-           "NOISE_SHARE", "STEP_SHARE",
+           "NOISE_SHARE", "STEP_SHARE", "BOUND_SHARE",
            "SLIDING_LEVEL", "BREAKAWAY_LEVEL", "RUNS_Z", "RUNS_SHARE", "HOLDOUT_RATIO",
-           "runs_test", "autocorrelation_time"]
+           "runs_test", "autocorrelation_time", "CORRELATION_WINDOW"]

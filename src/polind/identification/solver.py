@@ -20,32 +20,23 @@ there: it is fixed at that start and not iterated on, and the result reports
 it as not identifiable.
 
 A start stops when an iteration lowers the sum of squares by less than
-:data:`NOISE_SHARE` of the noise variance ``tau s^2``, with ``s^2 = RSS / (n -
-p)`` and ``tau`` the residuals' integrated autocorrelation time at the point
-reached (:func:`~polind.identification.credibility.autocorrelation_time`, at
-most ``n - p``): what is left to gain is below anything the data can tell
-apart, and on a long record the default ``tolerance`` alone would iterate on
-it.  Independent residuals have ``tau`` near 1.  A friction model's residuals
-on a measured record stay alike over many samples (``tau`` of about 140 for
-Pol-Ind on the tribometer record), so the record holds about ``n / tau``
-independent residuals, and a gain of a few ``s^2`` in the sum of squares is
-what fitting one of them would give.  The solver's ``ftol``
-is at least ``NOISE_SHARE / (n - p)``, but SciPy applies it only to a step
-its model of the sum of squares predicted well, and a friction model's
-residual has kinks (an element that sticks or slips one sample earlier), so
-the rule is also checked after each accepted iteration.
+:data:`NOISE_SHARE` of the noise variance ``tau s^2`` (``s^2 = RSS / (n - p)``,
+``tau`` the residuals' :func:`~polind.identification.credibility.autocorrelation_time`
+at the point reached: :ref:`guide-identification-method`): what is left to
+gain is below what the data can tell apart, and on a long record the default
+``tolerance`` alone would iterate on it.  The solver's ``ftol`` is at least
+``NOISE_SHARE / (n - p)``, but SciPy applies it only to a step its model of
+the sum of squares predicted well, and a friction model's residual has kinks
+(an element that sticks or slips one sample earlier), so the rule is also
+checked after each accepted iteration.
 
 A start also stops when an accepted step ``d`` is too small for the data to
-see and gained less than one noise variance: ``|J d|^2 < STEP_SHARE tau s^2``
-(:data:`STEP_SHARE`), with ``J`` the Jacobian the step was taken from (the step
-moves the free values by less than a tenth of a standard error in their joint
-metric, with correlated residuals), and a decrease of the sum of squares
-below ``tau s^2``.  On a smooth sum of squares
-the two rules end a fit together (near the minimum a step's decrease is
-``|J d|^2``); on a rough one (a spring solve that passes from stick to slip a
-sample earlier when a value moves by a millionth) the trust region shrinks
-below the data's resolution while the jumps still lower the sum of squares
-now and then: this rule ends the start there.
+see, ``|J d|^2 < STEP_SHARE tau s^2`` (:data:`STEP_SHARE`; ``J`` the Jacobian
+it was taken from), and gained less than ``tau s^2``.  On a smooth sum of squares the two
+rules end a fit together (near the minimum a step gains ``|J d|^2``); on a
+rough one (a spring's solve passing from stick to slip a sample earlier) the
+trust region shrinks below the data's resolution while jumps still lower the
+sum of squares now and then: this rule ends the start there.
 
 Both rules are judged when the solver asks for the Jacobian at the accepted
 point; a start they stop does not take it (the fit kept takes it afterwards,
@@ -86,15 +77,14 @@ _THREADED_SIMULATION = 5e-3
 STILL_COLUMN = 1e-8
 #: A start stops when an iteration lowers the sum of squares by less than this share of
 #: the noise variance ``tau RSS / (n - p)`` (module docstring): a free value moves then by
-#: about a tenth of its standard error at most (with correlated residuals).
+#: about a tenth of its standard error at most.
 NOISE_SHARE = 1e-2
 #: The solver's message of a start stopped by :data:`NOISE_SHARE` in the callback.
 NOISE_STOP = ("an iteration lowered the sum of squares by less than a hundredth of the noise "
               "variance")
-#: A start stops when an accepted step ``d`` moves the linearised force by
-#: ``|J d|^2`` below this share of the noise variance ``tau RSS / (n - p)`` (and gained
-#: less than one noise variance): the free values moved by less than a tenth of a standard
-#: error (with correlated residuals).
+#: A start stops when an accepted step ``d`` moves the linearised force by ``|J d|^2``
+#: below this share of the noise variance ``tau RSS / (n - p)`` (and gained less than
+#: one): the free values moved by less than a tenth of a standard error.
 STEP_SHARE = 1e-2
 #: The solver's message of a start stopped by the step rule (module docstring).
 STEP_STOP = ("an iteration's step moved the force by less than a tenth of the noise (a tenth "
