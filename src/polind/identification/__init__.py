@@ -133,7 +133,7 @@ from polind.identification.memory import fit_bytes_per_sample
 from polind.identification.parameters import (DEFAULT_RANGES, UNSCALED_RANGE, default_bounds,
                                               fittable_keys, parse_fit)
 from polind.identification.plot import plot_fit
-from polind.identification.results import BOUND_SHARE, FitResult
+from polind.identification.results import FitResult
 from polind.identification.solver import NOISE_SHARE, STEP_SHARE, STILL_COLUMN, identify
 from polind.identification.starts import DEFAULT_SPREAD_STARTS, SPREAD_SPAN, spread_points
 from polind.identification.structure import (identify_gms, identify_maxwell_slip,
@@ -144,6 +144,6 @@ __all__ = ["FitResult", "identify", "parse_fit", "default_bounds", "identify_max
            "fittable_keys", "measured_data", "MeasuredData", "holdout_split", "DEFAULT_RANGES",
            "UNSCALED_RANGE", "COLUMNS", "COLOURS", "Comparison", "compare",
            "DEFAULT_SPREAD_STARTS", "SPREAD_SPAN", "spread_points", "STILL_COLUMN",
-           "NOISE_SHARE", "STEP_SHARE", "BOUND_SHARE",
+           "NOISE_SHARE", "STEP_SHARE",
            "SLIDING_LEVEL", "BREAKAWAY_LEVEL", "RUNS_Z", "RUNS_SHARE", "HOLDOUT_RATIO",
            "runs_test", "autocorrelation_time", "CORRELATION_WINDOW"]

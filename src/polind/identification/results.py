@@ -18,13 +18,7 @@ from polind.identification.parameters import split_variables
 from polind.identification.starts import GIVEN_START
 from polind.models import FrictionModel
 
-__all__ = ["FitResult", "fit_result", "BOUND_SHARE"]
-
-#: A value within this share of its standard error of a bound (or within ``1e-6`` of
-#: it) ended at the bound: a stop rule ends a fit once its steps move the values by
-#: less than a tenth of a standard error, so the rest of the way to the bound is below
-#: what the data resolve.
-BOUND_SHARE = 0.1
+__all__ = ["FitResult", "fit_result"]
 
 
 @dataclass(frozen=True)
@@ -237,12 +231,7 @@ def _fit_warnings(model, frees, values, errors, success, message, fixed) -> list
                 if (free.mapping == "simplex" or not math.isfinite(bound)
                         or (free.mapping == "log" and bound <= 0.0)):
                     continue
-                # At the bound: within 1e-6 of it, or within a tenth of a standard error
-                # (where a stop rule ends a fit: the rest of the way is below the data's
-                # resolution, and the solver's reflective steps approach a bound slowly).
                 tolerance = 1e-6 * (abs(bound) if bound != 0.0 else free.scale)
-                if math.isfinite(spread):
-                    tolerance = max(tolerance, BOUND_SHARE * spread)
                 if abs(entry - bound) <= tolerance:
                     notes.append(f"The '{name}' parameter of {model.type} ended at its {side} "
                                  f"bound {bound:.6g} ({origin}); the data would move it "
