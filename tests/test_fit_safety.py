@@ -540,6 +540,34 @@ def test_the_autocorrelation_time_of_edge_cases():
     assert 1.0 < autocorrelation_time(ramp) <= ramp.size
 
 
+def test_the_solver_runs_its_matrix_products_on_one_blas_thread(monkeypatch):
+    """Inside identify the BLAS uses one thread (the cores are the simulations'), and the
+    caller's setting is back afterwards."""
+    from threadpoolctl import threadpool_info, threadpool_limits
+
+    from polind.identification import MeasuredData
+
+    def blas_threads():
+        return max(info["num_threads"] for info in threadpool_info()
+                   if info["user_api"] == "blas")
+
+    seen = []
+    simulate = MeasuredData.simulate
+
+    def recording(self, fitted):
+        seen.append(blas_threads())
+        return simulate(self, fitted)
+
+    monkeypatch.setattr(MeasuredData, "simulate", recording)
+    t, x = strokes(401)
+    start = model({"type": "coulomb", "coulomb_force": 0.5})
+    with threadpool_limits(limits=2, user_api="blas"):
+        before = blas_threads()
+        quiet(identify, start, {"t": t, "x": x, "F": np.sign(np.gradient(x, t))})
+        assert blas_threads() == before
+    assert seen and set(seen) == {1}
+
+
 def rough_fit_case():
     """Pol-Ind (64 height bins) behind a rig spring on the first 4,000 samples of the real
     record, four values free: the spring's solve puts kinks into the sum of squares."""

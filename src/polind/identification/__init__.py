@@ -109,6 +109,7 @@ One idea each; everything public is imported here:
   once it gains less than the noise (:data:`NOISE_SHARE`) or its step moves the force
   by less than the noise can show (:data:`STEP_SHARE`), the noise's variance taken
   with the residuals' correlation (:func:`autocorrelation_time`), its threads;
+* ``threads`` -- the fit's threads, and one BLAS thread for its matrix products;
 * ``results`` -- :class:`polind.FitResult`, its standard errors and warnings;
 * ``credibility`` -- the warnings on a fit as a whole (:ref:`guide-fit-warnings`):
   a force level beyond the data, residuals with structure (:func:`runs_test`), a

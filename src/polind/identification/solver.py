@@ -5,7 +5,7 @@ optimiser's variables of :mod:`polind.identification.parameters`, from each
 starting point of :mod:`polind.identification.starts`; the fit with the
 smallest sum of squares in sample is kept.  The Jacobian is taken by forward
 differences of a fixed step in these variables.  Where one simulation of the
-data takes long enough for threads to pay (:data:`_THREADED_SIMULATION`),
+data takes long enough for threads to pay (:data:`~polind.identification.threads.THREADED_SIMULATION`),
 the starts run side by side on threads, and each start's Jacobian columns
 too (the numba kernels release the GIL).  Neither changes a result: each
 start's fit is the same computation on any thread.  A trial point whose
@@ -41,12 +41,14 @@ sum of squares now and then: this rule ends the start there.
 Both rules are judged when the solver asks for the Jacobian at the accepted
 point; a start they stop does not take it (the fit kept takes it afterwards,
 for its standard errors: the same computation at the same point).
+
+The threads, and the single BLAS thread of the solver's matrix products:
+:mod:`polind.identification.threads`.
 """
 
 from __future__ import annotations
 
 import math
-import os
 import threading
 import time
 import warnings
@@ -62,16 +64,13 @@ from polind.identification.parameters import build_free, model_at, param_value, 
 from polind.identification.results import FitResult, fit_result
 from polind.identification.starts import (DEFAULT_SPREAD_STARTS, check_extra_starts,
                                           check_starts, starting_points)
+from polind.identification.threads import (one_blas_thread, simulation_seconds, start_threads,
+                                           worker_count)
 from polind.resources import check_memory
-from polind.validation import check_number, describe
+from polind.validation import check_number
 
 __all__ = ["NOISE_SHARE", "STEP_SHARE", "STILL_COLUMN", "identify"]
 
-#: A simulation of the data shorter than this [s] runs the fit on one thread by
-#: default: the threads' overhead, and their contention with the BLAS's own threads
-#: (which spin between the solver's matrix products) and for the interpreter's lock,
-#: eat the gain.
-_THREADED_SIMULATION = 5e-3
 #: A Jacobian column whose norm is at most this share of the measured force's norm is
 #: zero: its free value cannot move the residual (it is fixed at its start).
 STILL_COLUMN = 1e-8
@@ -89,22 +88,6 @@ STEP_SHARE = 1e-2
 #: The solver's message of a start stopped by the step rule (module docstring).
 STEP_STOP = ("an iteration's step moved the force by less than a tenth of the noise (a tenth "
              "of a standard error)")
-
-
-def _worker_count(workers, columns: int, seconds: float) -> int:
-    """Threads for ``columns`` tasks side by side (``seconds``: one simulation of the data).
-
-    The tasks are a Jacobian's columns or a fit's starts; by default one
-    thread a core, none beside the caller's for quick simulations.
-    """
-    if workers is None:
-        if seconds < _THREADED_SIMULATION:
-            return 1
-        return max(1, min(os.cpu_count() or 1, columns))
-    if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
-        raise InputError(f"The number of 'workers' must be a positive integer. Got "
-                         f"{describe(workers)} instead.")
-    return int(min(workers, max(columns, 1)))
 
 
 @dataclass(frozen=True)
@@ -168,7 +151,7 @@ class _Problem:
         if column_threads is not None:
             self._threads_for(min(column_threads, max(self.low.size, 1)))
         elif settings.workers is not None:
-            self._threads_for(_worker_count(settings.workers, self.low.size, math.inf))
+            self._threads_for(worker_count(settings.workers, self.low.size, math.inf))
 
     def _threads_for(self, count):
         self.threads = count
@@ -214,7 +197,7 @@ class _Problem:
             # The first column, timed, decides how many threads the others get.
             clock = time.perf_counter()
             out.append(column(columns.pop(0)))
-            self._threads_for(_worker_count(None, self.low.size, time.perf_counter() - clock))
+            self._threads_for(worker_count(None, self.low.size, time.perf_counter() - clock))
         out += self.pool.map(column, columns) if self.pool is not None else map(column, columns)
         return np.column_stack(out) if out else np.zeros((base.size, 0))
 
@@ -422,39 +405,6 @@ def _special_case_fit(case, bounds, measured, settings, counter, pool=None, thre
     return model_at(start, frees, best.u)
 
 
-def _simulation_seconds(start, measured: MeasuredData, retime: bool) -> float:
-    """The time of one simulation of the data [s]; InputError where the start's force is not finite.
-
-    The first simulation may include compiling the model's kernels: with
-    ``retime``, one that looks long enough for threads
-    (:data:`_THREADED_SIMULATION`) is timed again.
-    """
-    seconds = math.inf
-    for _ in range(2 if retime else 1):
-        clock = time.perf_counter()
-        force = measured.simulate(start)
-        seconds = time.perf_counter() - clock
-        if not np.all(np.isfinite(force)):
-            raise InputError(f"The starting {start.type} model gives a non-finite force on "
-                             "these data; check its parameters.")
-        if seconds < _THREADED_SIMULATION:
-            break
-    return seconds
-
-
-def _start_threads(workers, starts, seconds) -> int:
-    """The threads the starts run on side by side; 1 for none (one start, or quick simulations).
-
-    ``workers`` threads when given, else one per core when a simulation takes
-    at least :data:`_THREADED_SIMULATION`.  A fit from one start
-    (``starts=1``) threads only its Jacobian's columns (:class:`_Problem`).
-    """
-    if starts == 1:
-        return 1
-    tasks = (os.cpu_count() or 1) if workers is None else workers
-    return _worker_count(workers, tasks, seconds)
-
-
 def identify(model, data, *, free=None, bounds=None, holdout=None, starts=None,
              extra_starts=None, max_evaluations=None, tolerance=1e-8, diff_step=1e-6,
              x_scale=1.0, callback=None, workers=None) -> FitResult:
@@ -610,41 +560,42 @@ def identify(model, data, *, free=None, bounds=None, holdout=None, starts=None,
         raise InputError(f"Identification of {n_variables} parameter values needs more samples "
                          f"than that. Got {measured.size} samples of 't'"
                          + ("." if fitted_samples is None else " in the fitted part."))
-    seconds = _simulation_seconds(start, measured, retime=starts != 1 and workers is None)
     settings = _Settings(max_evaluations, tolerance, diff_step, x_scale, workers)
     counter = _Counter(callback)
-    threads = _start_threads(workers, starts, seconds)
-    pool = None
-    if threads > 1:
-        from concurrent.futures import ThreadPoolExecutor
-        pool = ThreadPoolExecutor(max_workers=threads, thread_name_prefix="polind-fit")
-    try:
-        with warnings.catch_warnings():
-            # A trial model's validity is no news (a fit tries hundreds): the fitted model's
-            # own warning, if it has one, is given once below.
-            warnings.simplefilter("ignore", ValidityWarning)
-            fits = _fit_from_starts(start, keys, given_bounds, frees, measured, settings,
-                                    counter, starts=starts, spread=DEFAULT_SPREAD_STARTS,
-                                    extra_starts=check_extra_starts(extra_starts, start),
-                                    special_cases=True, pool=pool, threads=threads)
-    finally:
-        if pool is not None:
-            pool.shutdown(cancel_futures=True)
-    best = min(fits, key=lambda local: local.rss)        # the first of equals: the earliest
-    fitted = model_at(start, frees, best.u)
-    force = measured.simulate(fitted)
-    tried = [(local.label, math.sqrt(local.rss / measured.size)) for local in fits]
-    if n_variables == 0:
-        result = fit_result(start, start, frees, np.zeros(0), given_bounds, force, measured, 0,
-                            counter.evaluations, True, "nothing to identify", notes=notes,
-                            record=None if fitted_samples is None else record,
-                            start_label=best.label, starts=tried)
-    else:
-        result = fit_result(fitted, start, frees, best.u, given_bounds, force, measured,
-                            best.iterations, counter.evaluations, best.success, best.message,
-                            jac=best.jac, notes=notes,
-                            record=None if fitted_samples is None else record,
-                            fixed=best.fixed, start_label=best.label, starts=tried)
+    with one_blas_thread():
+        seconds = simulation_seconds(start, measured, retime=starts != 1 and workers is None)
+        threads = start_threads(workers, starts, seconds)
+        pool = None
+        if threads > 1:
+            from concurrent.futures import ThreadPoolExecutor
+            pool = ThreadPoolExecutor(max_workers=threads, thread_name_prefix="polind-fit")
+        try:
+            with warnings.catch_warnings():
+                # A trial model's validity is no news (a fit tries hundreds): the fitted model's
+                # own warning, if it has one, is given once below.
+                warnings.simplefilter("ignore", ValidityWarning)
+                fits = _fit_from_starts(start, keys, given_bounds, frees, measured, settings,
+                                        counter, starts=starts, spread=DEFAULT_SPREAD_STARTS,
+                                        extra_starts=check_extra_starts(extra_starts, start),
+                                        special_cases=True, pool=pool, threads=threads)
+        finally:
+            if pool is not None:
+                pool.shutdown(cancel_futures=True)
+        best = min(fits, key=lambda local: local.rss)        # the first of equals: the earliest
+        fitted = model_at(start, frees, best.u)
+        force = measured.simulate(fitted)
+        tried = [(local.label, math.sqrt(local.rss / measured.size)) for local in fits]
+        if n_variables == 0:
+            result = fit_result(start, start, frees, np.zeros(0), given_bounds, force, measured, 0,
+                                counter.evaluations, True, "nothing to identify", notes=notes,
+                                record=None if fitted_samples is None else record,
+                                start_label=best.label, starts=tried)
+        else:
+            result = fit_result(fitted, start, frees, best.u, given_bounds, force, measured,
+                                best.iterations, counter.evaluations, best.success, best.message,
+                                jac=best.jac, notes=notes,
+                                record=None if fitted_samples is None else record,
+                                fixed=best.fixed, start_label=best.label, starts=tried)
     for note in result.warnings:
         warnings.warn(note, UserWarning, stacklevel=2)
     return result
