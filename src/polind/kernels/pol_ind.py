@@ -76,8 +76,9 @@ from polind.kernels.elements import (ATTRACTION, ELEMENT_CAPACITY, ELEMENT_INVER
                                      gms_decayed_element, gms_force, gms_step_scaled,
                                      gms_trial_scaled, stuck_stiffness)
 from polind.kernels.fastexp import decay_exp
-from polind.kernels.separation import (DIRECT, direct_lower_bound, newton_separation,
-                                       predicted_start, statistical_separation_only)
+from polind.kernels.separation import (DIRECT, RELATIVE_TOLERANCE, direct_lower_bound,
+                                       newton_iteration, predicted_start,
+                                       statistical_separation_only)
 from polind.kernels.special import IVE, KVE
 from polind.kernels.stribeck import sign, stribeck_curve
 
@@ -118,17 +119,6 @@ DECAY_INVERSE = 6
 N_ROWS = 7
 
 
-@jit
-def direct_separation(scalars, heights, counts, normal_load):
-    """``(d, N(d), dN/dd)`` of a direct surface: Newton from the step predicted by the previous solution."""
-    lower = direct_lower_bound(normal_load, heights, counts, scalars[HERTZ])
-    start = predicted_start(scalars[SEPARATION], scalars[LOAD_VALUE], scalars[LOAD_SLOPE],
-                            normal_load)
-    return newton_separation(
-        normal_load, start, lower, scalars[UPPER], scalars[SURFACE_KIND], scalars[LOAD_SCALE],
-        scalars[HEIGHT_STD], heights, counts, scalars[HERTZ], scalars[ADDRESSES:ADDRESSES + 2])
-
-
 @jit(inline="always")
 def statistical_separation(scalars, heights, counts, normal_load):
     """``(d, NaN, NaN)`` of a statistical surface.
@@ -164,8 +154,8 @@ def area_ratio(scalars, normal_load):
 def new_capacities(separation_function, scalars, table, state, normal_load):
     """Solve the separation and evaluate the stiffness and capacity rows there; return ``d``.
 
-    ``separation_function`` is :func:`statistical_separation` or
-    :func:`direct_separation`.  Stores nothing else: the caller updates the
+    ``separation_function`` is :func:`statistical_separation` (a direct
+    surface has :func:`direct_capacities`).  Stores nothing else: the caller updates the
     weights and the elements.  With a ball (:func:`area_ratio` ``r``) the
     surface of the scalars, built at the table load, is solved at ``N / r``
     and the rows are ``r`` times its rows: ``r`` scales ``G*`` for the
@@ -194,9 +184,90 @@ def statistical_capacities(scalars, table, state, normal_load):
 
 
 @jit(inline="always")
+def row_load_scales(scalars, ratio):
+    """``(hertz / capacity scale, -(3/2) hertz / stiffness scale)``: the load and slope per row sum.
+
+    A summit within yield has ``W_j = n_j mu_s (4/3) E* sqrt(R) delta_j^(3/2)``,
+    ``mu_s`` times its load, and ``k_j = n_j 8 G* sqrt(R delta_j)``, a
+    multiple of the ``delta_j^(1/2)`` that ``dN/dd`` sums; so ``N = (hertz /
+    capacity scale) sum W`` and ``dN/dd = -(3/2) (hertz / stiffness scale) sum
+    k``, the scales those of :func:`polind.kernels.elements.element_properties`
+    with ``G*`` and ``mu_s`` times the ball's ``ratio`` (all positive: the
+    parameters are checked).
+    """
+    sqrt_radius = math.sqrt(scalars[RADIUS])
+    stiffness_scale = 8.0 * (scalars[G_STAR] * ratio) * sqrt_radius
+    capacity_scale = (scalars[STATIC_COEFFICIENT] * ratio) * (4.0 / 3.0) * scalars[E_STAR] * \
+        sqrt_radius
+    hertz = scalars[HERTZ]
+    return hertz / capacity_scale, -1.5 * hertz / stiffness_scale
+
+
+@jit(inline="always")
+def load_from_rows(table, load_per_capacity, slope_per_stiffness):
+    """``(N(d), dN/dd)`` from the element rows at ``d`` (:func:`row_load_scales`)."""
+    return (load_per_capacity * element_sum(table[ELEMENT_SCRATCH]),
+            slope_per_stiffness * element_sum(table[ELEMENT_STIFFNESS]))
+
+
+@jit(inline="always")
+def direct_rows_surface(d, evaluation):
+    """``(N(d), dN/dd)`` of a direct surface from its element rows at ``d``, which it fills.
+
+    The evaluation of :func:`direct_capacities`' Newton iteration
+    (:func:`polind.kernels.separation.newton_iteration`): the element
+    stiffnesses and capacities at ``d`` (:func:`polind.kernels.elements.element_properties`,
+    into the rows), then the load and its slope from their sums
+    (:func:`load_from_rows`), equal to
+    :func:`polind.kernels.separation.direct_load_and_slope` to rounding.
+    ``evaluation`` is ``(scalars, table, heights, counts, ratio, load per
+    capacity, slope per stiffness)``.
+    """
+    scalars, table, heights, counts, ratio, load_per_capacity, slope_per_stiffness = evaluation
+    element_properties(heights, counts, d, scalars[RADIUS], scalars[E_STAR],
+                       scalars[G_STAR] * ratio, scalars[STATIC_COEFFICIENT] * ratio,
+                       table[ELEMENT_STIFFNESS], table[ELEMENT_SCRATCH])
+    return load_from_rows(table, load_per_capacity, slope_per_stiffness)
+
+
+@jit(inline="always")
 def direct_capacities(scalars, table, state, normal_load):
-    """:func:`new_capacities` of a direct surface."""
-    return new_capacities(direct_separation, scalars, table, state, normal_load)
+    """:func:`new_capacities` of a direct surface, its Newton evaluations filling the rows.
+
+    The elements are the surface's summits, so the pass that evaluates
+    ``N(d)`` for the separation's Newton iteration (warm-started by
+    :func:`polind.kernels.separation.predicted_start`, bracketed by
+    :func:`polind.kernels.separation.direct_lower_bound`) can be the pass
+    that computes the element rows at ``d`` (:func:`direct_rows_surface`):
+    the rows of the accepted ``d`` are then already there, and each
+    evaluation is vectorised (the summits' own sum,
+    :func:`polind.kernels.greenwood.tail_moments`, was not, on the state's
+    rows).  Measured on the 1,014 summits of a measured map: one load
+    update of a rigid contact 2.7 µs against 4.0 µs.  The rows are those of
+    ``element_properties`` at the separation, to the bit; ``N(d)`` is the
+    summits' load summed in another order, so the separation can differ from
+    a solve with the summits' sum by rounding (an evaluation within rounding
+    of the tolerance ``1e-10 N``, or a Newton step from it).  The
+    elastic-plastic step solves a direct surface the same way
+    (:func:`polind.kernels.pol_ind_plastic.plastic_capacities`), so that
+    within yield it computes this, to the bit.
+    """
+    n = table.shape[1]
+    heights = state[2 * n:3 * n]
+    counts = state[3 * n:4 * n]
+    ratio, load = area_ratio(scalars, normal_load)
+    load_per_capacity, slope_per_stiffness = row_load_scales(scalars, ratio)
+    evaluation = (scalars, table, heights, counts, ratio, load_per_capacity, slope_per_stiffness)
+    lower = direct_lower_bound(load, heights, counts, scalars[HERTZ])
+    start = predicted_start(scalars[SEPARATION], scalars[LOAD_VALUE], scalars[LOAD_SLOPE], load)
+    separation, value, slope, _, last = newton_iteration(
+        direct_rows_surface, RELATIVE_TOLERANCE, load, start, lower, scalars[UPPER], evaluation)
+    if last != separation:
+        # The bracket shrank to adjacent doubles and an earlier d was better.
+        direct_rows_surface(separation, evaluation)
+    scalars[LOAD_VALUE] = value
+    scalars[LOAD_SLOPE] = slope
+    return separation
 
 
 @jit(inline="always")
