@@ -51,16 +51,9 @@ heights, element counts (``n`` each) and the load the table was built for.
 
 The decay factors
 -----------------
-A GMS step relaxes each slipping element by ``exp(-C h / (alpha_j g))``,
-one exponential per element, and that is most of the step's cost.  The
-body's implicit solve (:mod:`polind.kernels.dynamics`) steps the elements
-at two or three velocities per sample and then commits one; above a few
-Stribeck velocities ``g`` is ``mu_k N`` to the bit at all of them, and
-``h`` repeats from sample to sample.  So the steps and the read-only trial
-take their factors from :func:`decay_row`, which keeps the last two rows
-computed with the ``h``, ``g`` and weights they came from and computes a row
-only for new ones: the same numbers, to the bit, as computing them in every
-step (measured, a moving :class:`polind.Body` step of the default 64-element
+``exp(-C h / (alpha_j g))`` per slipping element, most of a step's cost: the
+steps and the read-only trial keep the last two rows (:func:`decay_row`), the
+same numbers to the bit (a moving :class:`polind.Body` step of the default
 model took about 40 % less time).
 """
 
@@ -185,22 +178,12 @@ def statistical_capacities(scalars, table, state, normal_load):
 
 @jit(inline="always")
 def row_load_scales(scalars, ratio):
-    """``(hertz / capacity scale, -(3/2) hertz / stiffness scale)``: the load and slope per row sum.
-
-    A summit within yield has ``W_j = n_j mu_s (4/3) E* sqrt(R) delta_j^(3/2)``,
-    ``mu_s`` times its load, and ``k_j = n_j 8 G* sqrt(R delta_j)``, a
-    multiple of the ``delta_j^(1/2)`` that ``dN/dd`` sums; so ``N = (hertz /
-    capacity scale) sum W`` and ``dN/dd = -(3/2) (hertz / stiffness scale) sum
-    k``, the scales those of :func:`polind.kernels.elements.element_properties`
-    with ``G*`` and ``mu_s`` times the ball's ``ratio`` (all positive: the
-    parameters are checked).
-    """
+    """``N`` per ``sum W_j`` (``mu_s`` times the load), ``dN/dd`` per ``sum k_j`` (``~ delta^(1/2)``)."""
     sqrt_radius = math.sqrt(scalars[RADIUS])
     stiffness_scale = 8.0 * (scalars[G_STAR] * ratio) * sqrt_radius
     capacity_scale = (scalars[STATIC_COEFFICIENT] * ratio) * (4.0 / 3.0) * scalars[E_STAR] * \
         sqrt_radius
-    hertz = scalars[HERTZ]
-    return hertz / capacity_scale, -1.5 * hertz / stiffness_scale
+    return scalars[HERTZ] / capacity_scale, -1.5 * scalars[HERTZ] / stiffness_scale
 
 
 @jit(inline="always")
@@ -212,17 +195,7 @@ def load_from_rows(table, load_per_capacity, slope_per_stiffness):
 
 @jit(inline="always")
 def direct_rows_surface(d, evaluation):
-    """``(N(d), dN/dd)`` of a direct surface from its element rows at ``d``, which it fills.
-
-    The evaluation of :func:`direct_capacities`' Newton iteration
-    (:func:`polind.kernels.separation.newton_iteration`): the element
-    stiffnesses and capacities at ``d`` (:func:`polind.kernels.elements.element_properties`,
-    into the rows), then the load and its slope from their sums
-    (:func:`load_from_rows`), equal to
-    :func:`polind.kernels.separation.direct_load_and_slope` to rounding.
-    ``evaluation`` is ``(scalars, table, heights, counts, ratio, load per
-    capacity, slope per stiffness)``.
-    """
+    """``(N(d), dN/dd)`` of a direct surface from its rows at ``d``, which it fills."""
     scalars, table, heights, counts, ratio, load_per_capacity, slope_per_stiffness = evaluation
     element_properties(heights, counts, d, scalars[RADIUS], scalars[E_STAR],
                        scalars[G_STAR] * ratio, scalars[STATIC_COEFFICIENT] * ratio,
@@ -232,38 +205,22 @@ def direct_rows_surface(d, evaluation):
 
 @jit(inline="always")
 def direct_capacities(scalars, table, state, normal_load):
-    """:func:`new_capacities` of a direct surface, its Newton evaluations filling the rows.
+    """:func:`new_capacities` of a direct surface: each Newton evaluation fills the rows.
 
-    The elements are the surface's summits, so the pass that evaluates
-    ``N(d)`` for the separation's Newton iteration (warm-started by
-    :func:`polind.kernels.separation.predicted_start`, bracketed by
-    :func:`polind.kernels.separation.direct_lower_bound`) can be the pass
-    that computes the element rows at ``d`` (:func:`direct_rows_surface`):
-    the rows of the accepted ``d`` are then already there, and each
-    evaluation is vectorised (the summits' own sum,
-    :func:`polind.kernels.greenwood.tail_moments`, was not, on the state's
-    rows).  Measured on the 1,014 summits of a measured map: one load
-    update of a rigid contact 2.7 µs against 4.0 µs.  The rows are those of
-    ``element_properties`` at the separation, to the bit; ``N(d)`` is the
-    summits' load summed in another order, so the separation can differ from
-    a solve with the summits' sum by rounding (an evaluation within rounding
-    of the tolerance ``1e-10 N``, or a Newton step from it).  The
-    elastic-plastic step solves a direct surface the same way
-    (:func:`polind.kernels.pol_ind_plastic.plastic_capacities`), so that
-    within yield it computes this, to the bit.
-    """
+    The elements are the summits, so the evaluation of ``N(d)`` is the pass
+    over the rows (:func:`direct_rows_surface`), vectorised: 2.7 µs against
+    4.0 µs per load on a 1,014-summit map; ``d`` moves by rounding (another
+    summation order).  The elastic-plastic step does the same (within yield: this)."""
     n = table.shape[1]
-    heights = state[2 * n:3 * n]
-    counts = state[3 * n:4 * n]
     ratio, load = area_ratio(scalars, normal_load)
-    load_per_capacity, slope_per_stiffness = row_load_scales(scalars, ratio)
-    evaluation = (scalars, table, heights, counts, ratio, load_per_capacity, slope_per_stiffness)
-    lower = direct_lower_bound(load, heights, counts, scalars[HERTZ])
-    start = predicted_start(scalars[SEPARATION], scalars[LOAD_VALUE], scalars[LOAD_SLOPE], load)
+    evaluation = (scalars, table, state[2 * n:3 * n], state[3 * n:4 * n], ratio) + \
+        row_load_scales(scalars, ratio)
     separation, value, slope, _, last = newton_iteration(
-        direct_rows_surface, RELATIVE_TOLERANCE, load, start, lower, scalars[UPPER], evaluation)
-    if last != separation:
-        # The bracket shrank to adjacent doubles and an earlier d was better.
+        direct_rows_surface, RELATIVE_TOLERANCE, load,
+        predicted_start(scalars[SEPARATION], scalars[LOAD_VALUE], scalars[LOAD_SLOPE], load),
+        direct_lower_bound(load, state[2 * n:3 * n], state[3 * n:4 * n], scalars[HERTZ]),
+        scalars[UPPER], evaluation)
+    if last != separation:      # an earlier d was better (the bracket down to adjacent doubles)
         direct_rows_surface(separation, evaluation)
     scalars[LOAD_VALUE] = value
     scalars[LOAD_SLOPE] = slope
