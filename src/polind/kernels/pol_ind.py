@@ -564,11 +564,8 @@ def force_with(set_load_function, scalars, table, state, sample_velocity, normal
 
 @jit
 def pol_ind_tangent(scalars, table, state, step):
-    """The tangent of ``polind.kernels.elements.gms_tangent``, written out.
-
-    Called, it was a second compiled function for the one sum (about a third
-    of a second of a cold process).
-    """
+    """``polind.kernels.elements.gms_tangent`` written out (called: a third of a second of
+    a cold process, a second compiled function for the one sum)."""
     n = table.shape[1]
     return step * stuck_stiffness(table[ELEMENT_STIFFNESS], state[n:2 * n]) + scalars[VISCOUS]
 
@@ -579,7 +576,7 @@ def pol_ind_trial_step(scalars, table, state, out, keep, step, displacement, ste
     """The read-only trial (:func:`polind.kernels.contract.no_trial`) at the table's load.
 
     At the load the table was last brought to, the step is the GMS step of
-    the table (:func:`settled_step_with`): ``(F, tangent, written)`` from
+    the table (:func:`settled_step_with`): ``(F, dF/dw, written)`` from
     :func:`polind.kernels.elements.gms_trial_scaled` (with ``keep``, the
     new element forces and slip directions in ``out``), after the weight
     rows are brought up to date if a step left them stale, as the step would
@@ -618,15 +615,11 @@ def fixed_load_step(scalars, table, state, step, displacement, step_velocity, sa
                     normal_load):
     """The step of a run at the table's own constant load (:ref:`guide-pol-ind-law`).
 
-    :func:`settled_step` without a load path: at a load that never changes
-    the model is the GMS law of its element table, and the separation solver
-    and the table's update at a new load (:func:`load_step`,
-    :func:`set_load`) are neither needed nor compiled, which more than
-    halves the compilation of a process with an empty cache.  The
-    stale weights a varying-load run may leave behind (:data:`TABLE_STALE`)
-    are still brought up to date.  The forces are :func:`pol_ind_step`'s at
-    that load, bit for bit.  Both the Hertzian and the elastic-plastic
-    arrays serve it (the plastic ones extend the Hertzian layout).
+    :func:`settled_step` without a load path (:func:`load_step`,
+    :func:`set_load` neither needed nor compiled: less than half the
+    compilation of a cold process); stale weights (:data:`TABLE_STALE`) are
+    still brought up to date.  :func:`pol_ind_step`'s forces at that load,
+    bit for bit, for the Hertzian and the elastic-plastic arrays alike.
     """
     # settled_step_with(load_unchanged, ...) written out: numba copies an inlined
     # function's whole expanded body at each level it is inlined through, and this level
