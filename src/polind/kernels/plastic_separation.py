@@ -113,7 +113,7 @@ def plastic_iteration(load_and_slope, load, start, lo, hi, surface, evaluation):
 
     ``(d, N(d), dN/dd, evaluations, last)``, ``last`` the ``d`` of the last
     evaluation.  ``surface`` is the surface vector (its kind and jump width);
-    ``load_and_slope`` :func:`_plastic_surface` (``evaluation`` its
+    ``load_and_slope`` ``_plastic_surface`` (``evaluation`` its
     arguments) or a model kernel's evaluation that also fills its element rows
     (:func:`polind.kernels.pol_ind_plastic.plastic_capacities`).
     """

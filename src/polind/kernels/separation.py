@@ -278,8 +278,8 @@ def newton_iteration(load_and_slope, stop, load, start, lo, hi, surface):
     """The iteration of :func:`newton_separation_counted` on ``load_and_slope``, stopping at ``stop N_app``.
 
     ``load_and_slope(d, surface)`` returns ``(N(d), dN/dd)`` of the surface
-    ``surface`` (a tuple of what it needs: :func:`_statistical_surface`,
-    :func:`_direct_surface`, or a model kernel's evaluation that also fills
+    ``surface`` (a tuple of what it needs: ``_statistical_surface``,
+    ``_direct_surface``, or a model kernel's evaluation that also fills
     its element rows at ``d``,
     :func:`polind.kernels.pol_ind.direct_rows_surface`).  Returns ``(d,
     N(d), dN/dd, evaluations, last)``: ``last`` is the ``d`` of the last
