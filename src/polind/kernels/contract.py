@@ -250,8 +250,10 @@ def no_trial(scalars, table, state, out, keep, step, displacement, step_velocity
 
     A model may supply ``trial(scalars, table, state, out, keep, step,
     displacement, step_velocity, sample_velocity, normal_load) -> (F, dF/dw,
-    written)``: the force ``step`` would return and the ``tangent`` of the
-    state it would leave, computed without writing ``state``.  ``written``
+    written)``: the force ``step`` would return and its derivative in the
+    step velocity ``w`` (the solvers take Newton steps with it; where the
+    force is piecewise linear in ``w``, the ``tangent`` of the state the
+    step leaves), computed without writing ``state``.  ``written``
     is -1 where it cannot (the caller then steps a copy of the state, as for
     a model without one); else the number ``m`` of leading entries of
     ``out`` that hold the state after the step (its other entries are

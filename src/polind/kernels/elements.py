@@ -36,7 +36,7 @@ import numpy as np
 from polind.kernels import jit
 from polind.kernels.contract import block_views, cut_sample
 from polind.kernels.fastexp import decay_exp
-from polind.kernels.stribeck import sign, stribeck_curve
+from polind.kernels.stribeck import sign, stribeck_curve, stribeck_slope
 
 
 # Called from Python (ElementTable) as well as from the kernels below, so not
@@ -190,28 +190,59 @@ def gms_decayed_element(force, slip, stiffness, weight, capacity_scale, directio
 
 
 @jit(inline="always")
+def gms_element_slope(force, slip, weight, inverse, capacity_scale, direction, decay):
+    """One element's share of ``dF/dw`` through ``g(w)``: ``(a, b)`` of :func:`gms_trial_elements`.
+
+    The element as :func:`gms_decayed_element` steps it: in slip it relaxes
+    to ``T + (F - T) e`` with ``T = sgn(v) alpha g`` and ``e = exp(-C h /
+    (alpha g))``, whose derivative in ``g`` is ``a + b C h / g^2`` with ``a
+    = sgn(v) alpha (1 - e)`` and ``b = (F - T) e / alpha``; an element that
+    crosses its capacity in the step ends at ``T`` (``a = sgn(v) alpha``,
+    ``b = 0``); one that sticks does not depend on ``g``.  ``inverse`` is
+    ``1 / alpha`` (``inf`` out of contact, where ``e = 0`` and ``b = 0``).
+    """
+    capacity = weight * capacity_scale
+    target = direction * capacity
+    slipping = (slip == direction) or (direction * force >= capacity)
+    relaxing = (force - target) * decay
+    a = direction * weight * ((1.0 - decay) if slipping else 1.0)
+    b = relaxing * inverse if decay > 0.0 else 0.0
+    return a, b if slipping else 0.0
+
+
+@jit(inline="always")
 def gms_trial_elements(factor, element_force, slip_direction, stiffness, weight, factors,
-                       capacity_scale, direction, displacement, decay_rate):
-    """:func:`gms_elements` without storing: ``(sum of forces, summed stiffness in stick)``.
+                       capacity_scale, direction, displacement, decay_rate, inverse_weight):
+    """:func:`gms_elements` without storing: ``(sum of forces, summed stiffness in stick, A, B)``.
 
     Each element's new force and slip direction as :func:`gms_elements`
     gives them; the second sum is what :func:`stuck_stiffness` would sum
-    over the elements after the step.
+    over the elements after the step; ``A`` and ``B`` sum the slipping and
+    crossing elements' :func:`gms_element_slope` (``inverse_weight`` is the
+    ``1/alpha`` row), from which :func:`gms_trial_scaled` takes ``dF/dg``.
     """
     total = 0.0
     stuck = 0.0
+    slope_a = 0.0
+    slope_b = 0.0
     for i in range(element_force.shape[0]):
+        decay = factor(factors, decay_rate, i)
         force, slip = gms_decayed_element(element_force[i], slip_direction[i], stiffness[i],
                                           weight[i], capacity_scale, direction, displacement,
-                                          factor(factors, decay_rate, i))
+                                          decay)
+        a, b = gms_element_slope(element_force[i], slip_direction[i], weight[i],
+                                 inverse_weight[i], capacity_scale, direction, decay)
         total += force
         stuck += stiffness[i] if slip == 0.0 else 0.0
-    return total, stuck
+        slope_a += a if slip != 0.0 else 0.0
+        slope_b += b
+    return total, stuck, slope_a, slope_b
 
 
 @jit(inline="always")
 def gms_kept_elements(factor, element_force, slip_direction, stiffness, weight, factors,
-                      capacity_scale, direction, displacement, decay_rate, out_force, out_slip):
+                      capacity_scale, direction, displacement, decay_rate, inverse_weight,
+                      out_force, out_slip):
     """:func:`gms_trial_elements` that also writes each element's new force and slip direction.
 
     Into ``out_force`` and ``out_slip``, not into the state: a trial whose
@@ -219,15 +250,22 @@ def gms_kept_elements(factor, element_force, slip_direction, stiffness, weight, 
     """
     total = 0.0
     stuck = 0.0
+    slope_a = 0.0
+    slope_b = 0.0
     for i in range(element_force.shape[0]):
+        decay = factor(factors, decay_rate, i)
         force, slip = gms_decayed_element(element_force[i], slip_direction[i], stiffness[i],
                                           weight[i], capacity_scale, direction, displacement,
-                                          factor(factors, decay_rate, i))
+                                          decay)
+        a, b = gms_element_slope(element_force[i], slip_direction[i], weight[i],
+                                 inverse_weight[i], capacity_scale, direction, decay)
         out_force[i] = force
         out_slip[i] = slip
         total += force
         stuck += stiffness[i] if slip == 0.0 else 0.0
-    return total, stuck
+        slope_a += a if slip != 0.0 else 0.0
+        slope_b += b
+    return total, stuck, slope_a, slope_b
 
 
 @jit(inline="always")
@@ -457,40 +495,49 @@ def gms_tangent(scalars, table, state, step):
 def gms_trial_scaled(factor, factor_row, scalars, table, element_force, slip_direction, out,
                      keep, step, displacement, step_velocity, sample_velocity, coulomb_force,
                      static_force):
-    """:func:`gms_step_scaled` without storing: ``(F, tangent, written)``.
+    """:func:`gms_step_scaled` without storing: ``(F, dF/dw, written)``.
 
-    The force the step returns and the tangent of the state it leaves
-    (``gms_tangent``'s), in one pass over the elements
-    (:func:`gms_trial_elements`; the decay factors as in
-    :func:`gms_step_scaled`).  With ``keep`` the new element forces and
-    slip directions go to ``out`` (``2 n`` entries, the layout of the
-    state: ``written = 2 n``); a step with zero velocity changes nothing
-    (``written = 0``), so its tangent is the state's own.
+    The force the step returns and its derivative in the step velocity
+    ``w``, in one pass over the elements (:func:`gms_trial_elements`; the
+    decay factors as in :func:`gms_step_scaled`): ``gms_tangent``'s stuck
+    stiffness of the state it leaves, plus, where ``g(w)`` is not flat, the
+    slipping and crossing elements' dependence on ``g``
+    (:func:`gms_element_slope`) times ``g'(w)``.  With ``keep`` the new
+    element forces and slip directions go to ``out`` (``2 n`` entries, the
+    layout of the state: ``written = 2 n``); a step with zero velocity
+    changes nothing (``written = 0``), and its tangent is the state's own.
     """
     stiffness = table[ELEMENT_STIFFNESS]
     n = element_force.shape[0]
     written = 0
     if step_velocity == 0.0:
         total = element_sum(element_force)
-        stuck = stuck_stiffness(stiffness, slip_direction)
+        tangent = step * stuck_stiffness(stiffness, slip_direction)
     else:
-        g = stribeck_curve(step_velocity, coulomb_force, static_force,
-                           scalars[STRIBECK_VELOCITY], scalars[STRIBECK_EXPONENT],
-                           scalars[STRIBECK_SHAPE])
+        velocity_scale = scalars[STRIBECK_VELOCITY]
+        exponent = scalars[STRIBECK_EXPONENT]
+        shape = scalars[STRIBECK_SHAPE]
+        g = stribeck_curve(step_velocity, coulomb_force, static_force, velocity_scale, exponent,
+                           shape)
         factors = factor_row(scalars, table, step, g)
         decay_rate = -scalars[ATTRACTION] * step / g
         if keep:
             written = 2 * n
-            total, stuck = gms_kept_elements(factor, element_force, slip_direction, stiffness,
-                                             table[ELEMENT_CAPACITY], factors, g,
-                                             sign(step_velocity), displacement, decay_rate,
-                                             out[:n], out[n:2 * n])
+            total, stuck, slope_a, slope_b = gms_kept_elements(
+                factor, element_force, slip_direction, stiffness, table[ELEMENT_CAPACITY],
+                factors, g, sign(step_velocity), displacement, decay_rate,
+                table[ELEMENT_INVERSE], out[:n], out[n:2 * n])
         else:
-            total, stuck = gms_trial_elements(factor, element_force, slip_direction, stiffness,
-                                              table[ELEMENT_CAPACITY], factors, g,
-                                              sign(step_velocity), displacement, decay_rate)
-    return (total + scalars[VISCOUS] * sample_velocity, step * stuck + scalars[VISCOUS],
-            written)
+            total, stuck, slope_a, slope_b = gms_trial_elements(
+                factor, element_force, slip_direction, stiffness, table[ELEMENT_CAPACITY],
+                factors, g, sign(step_velocity), displacement, decay_rate,
+                table[ELEMENT_INVERSE])
+        tangent = step * stuck
+        g_slope = stribeck_slope(step_velocity, coulomb_force, static_force, velocity_scale,
+                                 exponent, shape)
+        if g_slope != 0.0:
+            tangent += g_slope * (slope_a - decay_rate / g * slope_b)
+    return total + scalars[VISCOUS] * sample_velocity, tangent + scalars[VISCOUS], written
 
 
 @jit

@@ -43,6 +43,7 @@ __all__ = [
     "JUMP_FRACTION",
     "plastic_load_and_slope",
     "plastic_lower",
+    "plastic_iteration",
     "plastic_newton",
     "plastic_separation_series",
 ]
@@ -106,6 +107,61 @@ def plastic_lower(load, lower, surface, heights, counts, radii):
     return lower
 
 
+@jit(inline="always")
+def plastic_iteration(load_and_slope, load, start, lo, hi, surface, evaluation):
+    """The iteration of :func:`plastic_newton` on ``load_and_slope(d, evaluation)``.
+
+    ``(d, N(d), dN/dd, evaluations, last)``, ``last`` the ``d`` of the last
+    evaluation.  ``surface`` is the surface vector (its kind and jump width);
+    ``load_and_slope`` ``_plastic_surface`` (``evaluation`` its
+    arguments) or a model kernel's evaluation that also fills its element rows
+    (:func:`polind.kernels.pol_ind_plastic.plastic_capacities`).
+    """
+    statistical = surface[KIND] == STATISTICAL
+    tolerance = (STATISTICAL_STOP if statistical else RELATIVE_TOLERANCE) * load
+    width = surface[JUMP_WIDTH]
+    log_load = math.log(load)
+    d = min(max(start, lo), hi)
+    best_d = d
+    best_error = math.inf
+    best_value = math.nan
+    best_slope = math.nan
+    iteration = 0
+    for iteration in range(1, MAX_ITERATIONS + 1):
+        value, slope = load_and_slope(d, evaluation)
+        error = abs(value - load)
+        if error < best_error:
+            best_d = d
+            best_error = error
+            best_value = value
+            best_slope = slope
+        if error <= tolerance:
+            return d, value, slope, iteration, d
+        if value > load:
+            lo = d
+        else:
+            hi = d
+        if hi - lo <= width:
+            # Inside a jump of N(d): no separation carries the load.
+            break
+        candidate = math.nan
+        if value > 0.0 and slope < 0.0:
+            candidate = d - (math.log(value) - log_load) * value / slope
+        if not (lo < candidate and candidate < hi):
+            candidate = 0.5 * (lo + hi)
+        if candidate == d or not (lo < candidate and candidate < hi):
+            break
+        d = candidate
+    return best_d, best_value, best_slope, iteration, d
+
+
+@jit(inline="always")
+def _plastic_surface(d, evaluation):
+    """:func:`plastic_load_and_slope`; ``evaluation`` is ``(surface, heights, weights, counts, radii)``."""
+    surface, heights, weights, counts, radii = evaluation
+    return plastic_load_and_slope(d, surface, heights, weights, counts, radii)
+
+
 @jit(fastmath=False)
 def plastic_newton(load, start, lo, hi, surface, heights, weights, counts, radii):
     """Separation ``d`` with ``N(d) = load`` on an elastic-plastic surface, or the jump's ``d``.
@@ -123,42 +179,9 @@ def plastic_newton(load, start, lo, hi, surface, heights, weights, counts, radii
     evaluations : int
         Load evaluations used.
     """
-    statistical = surface[KIND] == STATISTICAL
-    tolerance = (STATISTICAL_STOP if statistical else RELATIVE_TOLERANCE) * load
-    width = surface[JUMP_WIDTH]
-    log_load = math.log(load)
-    d = min(max(start, lo), hi)
-    best_d = d
-    best_error = math.inf
-    best_value = math.nan
-    best_slope = math.nan
-    iteration = 0
-    for iteration in range(1, MAX_ITERATIONS + 1):
-        value, slope = plastic_load_and_slope(d, surface, heights, weights, counts, radii)
-        error = abs(value - load)
-        if error < best_error:
-            best_d = d
-            best_error = error
-            best_value = value
-            best_slope = slope
-        if error <= tolerance:
-            return d, value, slope, iteration
-        if value > load:
-            lo = d
-        else:
-            hi = d
-        if hi - lo <= width:
-            # Inside a jump of N(d): no separation carries the load.
-            break
-        candidate = math.nan
-        if value > 0.0 and slope < 0.0:
-            candidate = d - (math.log(value) - log_load) * value / slope
-        if not (lo < candidate and candidate < hi):
-            candidate = 0.5 * (lo + hi)
-        if candidate == d or not (lo < candidate and candidate < hi):
-            break
-        d = candidate
-    return best_d, best_value, best_slope, iteration
+    d, value, slope, evaluations, _ = plastic_iteration(
+        _plastic_surface, load, start, lo, hi, surface, (surface, heights, weights, counts, radii))
+    return d, value, slope, evaluations
 
 
 @jit(fastmath=False)

@@ -29,14 +29,16 @@ from __future__ import annotations
 from polind.kernels import jit
 from polind.kernels.elements import ELEMENT_STIFFNESS
 from polind.kernels.plastic import plastic_element_properties
-from polind.kernels.plastic_separation import (CRITICAL_FACTOR, PLASTIC_SCALE, SIZE,
-                                               YIELD_COEFFICIENT, plastic_lower, plastic_newton)
+from polind.kernels.plastic_separation import (CRITICAL_FACTOR, KIND, PLASTIC_SCALE, SIZE,
+                                               YIELD_COEFFICIENT, plastic_iteration,
+                                               plastic_lower, plastic_newton)
 from polind.kernels.pol_ind import (E_STAR, ELEMENT_SCRATCH, G_STAR, LOAD_SLOPE, LOAD_VALUE,
                                     LOWER, N_ROWS, N_SCALARS, RADIUS, SEPARATION,
                                     STATIC_COEFFICIENT, UPPER, area_ratio, force_with,
-                                    load_step_with, pol_ind_tangent, pol_ind_trial_step,
-                                    set_load_with, settled_step_with, step_with)
-from polind.kernels.separation import predicted_start
+                                    load_from_rows, load_step_with, pol_ind_tangent,
+                                    pol_ind_trial_step, row_load_scales, set_load_with,
+                                    settled_step_with, step_with)
+from polind.kernels.separation import DIRECT, predicted_start
 
 __all__ = ["PLASTIC_SURFACE", "N_PLASTIC_SCALARS", "ELEMENT_ASPERITIES", "ELEMENT_RADIUS",
            "N_PLASTIC_ROWS", "plastic_capacities", "plastic_step", "plastic_force", "plastic_path",
@@ -75,17 +77,49 @@ def plastic_capacities(scalars, table, state, normal_load):
     surface = scalars[PLASTIC_SURFACE:PLASTIC_SURFACE + SIZE]
     lower = plastic_lower(load, scalars[LOWER], surface, heights, counts, radii)
     start = predicted_start(scalars[SEPARATION], scalars[LOAD_VALUE], scalars[LOAD_SLOPE], load)
-    separation, value, slope, _ = plastic_newton(load, start, lower, scalars[UPPER], surface,
-                                                 heights, weights, counts, radii)
+    if surface[KIND] == DIRECT:
+        # As the Hertzian step (polind.kernels.pol_ind.direct_capacities): each Newton
+        # evaluation fills the rows and sums them.  A summit beyond yield carries W_j / mu_s
+        # as well; its k_j gives the slope only roughly, which the safeguarded iteration
+        # takes (the load, not the slope, decides where it stops).
+        load_per_capacity, slope_per_stiffness = row_load_scales(scalars, ratio)
+        evaluation = (scalars, table, heights, weights, counts, radii, surface, ratio,
+                      load_per_capacity, slope_per_stiffness)
+        separation, value, slope, _, last = plastic_iteration(
+            plastic_rows_surface, load, start, lower, scalars[UPPER], surface, evaluation)
+        if last != separation:
+            plastic_rows_surface(separation, evaluation)
+    else:
+        separation, value, slope, _ = plastic_newton(load, start, lower, scalars[UPPER], surface,
+                                                     heights, weights, counts, radii)
+        plastic_rows(scalars, table, heights, weights, counts, radii, surface, ratio, separation)
+    scalars[LOAD_VALUE] = value
+    scalars[LOAD_SLOPE] = slope
+    return separation
+
+
+@jit(inline="always")
+def plastic_rows(scalars, table, heights, weights, counts, radii, surface, ratio, separation):
+    """The stiffness and capacity rows at ``separation`` (:func:`polind.kernels.plastic.plastic_element_properties`)."""
     plastic_element_properties(heights, weights, counts, radii, separation, scalars[RADIUS],
                                scalars[E_STAR], scalars[G_STAR] * ratio,
                                scalars[STATIC_COEFFICIENT] * ratio,
                                surface[CRITICAL_FACTOR], surface[PLASTIC_SCALE],
                                surface[YIELD_COEFFICIENT], table[ELEMENT_STIFFNESS],
                                table[ELEMENT_SCRATCH])
-    scalars[LOAD_VALUE] = value
-    scalars[LOAD_SLOPE] = slope
-    return separation
+
+
+@jit(inline="always")
+def plastic_rows_surface(d, evaluation):
+    """``(N(d), dN/dd)`` of a direct elastic-plastic surface from its rows at ``d``, which it fills.
+
+    :func:`polind.kernels.pol_ind.direct_rows_surface` with the
+    elastic-plastic rows (:func:`plastic_rows`).
+    """
+    (scalars, table, heights, weights, counts, radii, surface, ratio, load_per_capacity,
+     slope_per_stiffness) = evaluation
+    plastic_rows(scalars, table, heights, weights, counts, radii, surface, ratio, d)
+    return load_from_rows(table, load_per_capacity, slope_per_stiffness)
 
 
 @jit

@@ -80,6 +80,7 @@ __all__ = [
     "statistical_separation_at",
     "statistical_separation_only",
     "newton_separation",
+    "newton_iteration",
     "newton_separation_counted",
     "statistical_newton_counted",
     "direct_newton_counted",
@@ -273,13 +274,17 @@ def predicted_start(d, value, slope, load):
 
 
 @jit(inline="always")
-def _newton_counted(load_and_slope, stop, load, start, lo, hi, kind, load_scale, height_std,
-                    heights, counts, hertz, addresses):
+def newton_iteration(load_and_slope, stop, load, start, lo, hi, surface):
     """The iteration of :func:`newton_separation_counted` on ``load_and_slope``, stopping at ``stop N_app``.
 
-    ``load_and_slope`` takes ``(d, kind, load_scale, height_std, heights,
-    counts, hertz, addresses)`` (:func:`surface_load_and_slope` or one
-    kind's :func:`_statistical_surface`, :func:`_direct_surface`).
+    ``load_and_slope(d, surface)`` returns ``(N(d), dN/dd)`` of the surface
+    ``surface`` (a tuple of what it needs: ``_statistical_surface``,
+    ``_direct_surface``, or a model kernel's evaluation that also fills
+    its element rows at ``d``,
+    :func:`polind.kernels.pol_ind.direct_rows_surface`).  Returns ``(d,
+    N(d), dN/dd, evaluations, last)``: ``last`` is the ``d`` of the last
+    evaluation (``d`` itself unless the bracket shrank to adjacent doubles
+    first and an earlier ``d`` was better).
     """
     tolerance = stop * load
     # log(load) only once a Newton step is needed (a good start needs none).
@@ -296,8 +301,7 @@ def _newton_counted(load_and_slope, stop, load, start, lo, hi, kind, load_scale,
     best_slope = math.nan
     iteration = 0
     for iteration in range(1, MAX_ITERATIONS + 1):
-        value, slope = load_and_slope(d, kind, load_scale, height_std, heights, counts, hertz,
-                                      addresses)
+        value, slope = load_and_slope(d, surface)
         error = abs(value - load)
         if error < best_error:
             best_d = d
@@ -305,7 +309,7 @@ def _newton_counted(load_and_slope, stop, load, start, lo, hi, kind, load_scale,
             best_value = value
             best_slope = slope
         if error <= tolerance:
-            return d, value, slope, iteration
+            return d, value, slope, iteration, d
         # Keep the root bracketed: N decreases with d.
         if value > load:
             lo = d
@@ -325,18 +329,20 @@ def _newton_counted(load_and_slope, stop, load, start, lo, hi, kind, load_scale,
             # double precision allows.
             break
         d = candidate
-    return best_d, best_value, best_slope, iteration
+    return best_d, best_value, best_slope, iteration, d
 
 
 @jit(inline="always")
-def _statistical_surface(d, kind, load_scale, height_std, heights, counts, hertz, addresses):
-    """:func:`statistical_load_and_slope` with the arguments of :func:`surface_load_and_slope`."""
+def _statistical_surface(d, surface):
+    """:func:`statistical_load_and_slope`; ``surface`` is ``(load_scale, height_std, addresses)``."""
+    load_scale, height_std, addresses = surface
     return statistical_load_and_slope(d, load_scale, height_std, addresses)
 
 
 @jit(inline="always")
-def _direct_surface(d, kind, load_scale, height_std, heights, counts, hertz, addresses):
-    """:func:`direct_load_and_slope` with the arguments of :func:`surface_load_and_slope`."""
+def _direct_surface(d, surface):
+    """:func:`direct_load_and_slope`; ``surface`` is ``(heights, counts, hertz)``."""
+    heights, counts, hertz = surface
     return direct_load_and_slope(d, heights, counts, hertz)
 
 
@@ -351,8 +357,10 @@ def statistical_newton_counted(load, start, lo, hi, kind, load_scale, height_std
     one kind.
     """
     # The fast statistical N(d) stops short of the tolerance (STATISTICAL_STOP).
-    return _newton_counted(_statistical_surface, STATISTICAL_STOP, load, start, lo, hi, kind,
-                           load_scale, height_std, heights, counts, hertz, addresses)
+    d, value, slope, evaluations, _ = newton_iteration(
+        _statistical_surface, STATISTICAL_STOP, load, start, lo, hi,
+        (load_scale, height_std, addresses))
+    return d, value, slope, evaluations
 
 
 @jit(fastmath=False)
@@ -362,8 +370,9 @@ def direct_newton_counted(load, start, lo, hi, kind, load_scale, height_std, hei
 
     As :func:`statistical_newton_counted`, without the statistical surface's pair.
     """
-    return _newton_counted(_direct_surface, RELATIVE_TOLERANCE, load, start, lo, hi, kind,
-                           load_scale, height_std, heights, counts, hertz, addresses)
+    d, value, slope, evaluations, _ = newton_iteration(
+        _direct_surface, RELATIVE_TOLERANCE, load, start, lo, hi, (heights, counts, hertz))
+    return d, value, slope, evaluations
 
 
 @jit(fastmath=False)

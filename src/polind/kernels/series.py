@@ -54,19 +54,20 @@ from polind.kernels.mount import (CONTACT_POSITION, CONTACT_VELOCITY, FORCE_SCAL
 def contact_trial(step_function, tangent_function, trial_function, memoryless, mount, scalars,
                   table, state, scratch, velocity, step, sample_slope, sample_offset,
                   normal_load, keep):
-    """``(F_contact(w), dF/dw, written)`` of the scaled contact, ``state`` untouched.
+    """``(F_contact(w), dF/dw, written, exact)`` of the scaled contact, ``state`` untouched.
 
     From the model's read-only ``trial_function`` where it answers
     (:func:`polind.kernels.contract.no_trial`, given ``scratch`` and
-    ``keep``), else from its step on a copy of ``state`` (in ``scratch``)
-    and the tangent there; ``written`` as in
+    ``keep``; ``exact``: its ``dF/dw``), else from its step on a copy of
+    ``state`` (in ``scratch``) and the model's tangent there; ``written`` as in
     :func:`polind.kernels.dynamics.solve_step`.
     """
     sample_velocity = velocity if memoryless else sample_slope * velocity + sample_offset
     force, tangent, written = trial_function(scalars, table, state, scratch, keep, step,
                                              velocity * step, velocity, sample_velocity,
                                              normal_load)
-    if written < 0:
+    answered = written >= 0
+    if not answered:
         n = state.shape[0]
         written = n
         work = scratch[:n]
@@ -76,7 +77,7 @@ def contact_trial(step_function, tangent_function, trial_function, memoryless, m
                               sample_velocity, normal_load)
         tangent = tangent_function(scalars, table, work, step)
     return (scaled_force(mount, force, sample_velocity, normal_load),
-            load_ratio(mount, normal_load) * tangent, written)
+            load_ratio(mount, normal_load) * tangent, written, answered)
 
 
 @jit(inline="always")
@@ -138,13 +139,13 @@ def mounted_commit(mounted_step, mount, scalars, table, state, scratch, step, di
 @jit(inline="always")
 def mounted_trial(mounted_step, tangent_function, memoryless, mount, scalars, table, state,
                   scratch, velocity, step, sample_slope, sample_offset, normal_load, keep):
-    """The body solver's trial of a mounted contact: ``(F(w), dF/dw, 0)``, spring and contact.
+    """The body solver's trial of a mounted contact: ``(F(w), dF/dw, 0, False)``, spring and contact.
 
     ``mounted_step`` as in :func:`mounted_commit`; ``tangent_function`` is
     the model's.  ``scratch`` holds two states: the trial's and, behind it,
     the spring's solve.  The tangent of the spring (``k_s h``) in series
-    with the contact's.  ``keep`` is not used: the body steps its accepted
-    velocity again (``written`` is 0).
+    with the contact's (the model's tangent: not ``exact``).  ``keep`` is
+    not used: the body steps its accepted velocity again (``written`` is 0).
     """
     n = state.shape[0]
     work = scratch[:n]
@@ -159,7 +160,7 @@ def mounted_trial(mounted_step, tangent_function, memoryless, mount, scalars, ta
     if spring < math.inf:
         total = spring + tangent
         tangent = spring * tangent / total if total > 0.0 else 0.0
-    return force, tangent, 0
+    return force, tangent, 0, False
 
 
 @jit(inline="always")

@@ -64,6 +64,23 @@ def stribeck_curve(v, coulomb_force, static_force, stribeck_velocity, exponent, 
 
 
 @jit(inline="always")
+def stribeck_slope(v, coulomb_force, static_force, stribeck_velocity, exponent, shape):
+    """``dg/dv`` [N s/m] of :func:`stribeck_curve` at ``v != 0`` (0 where ``g`` is flat to the bit).
+
+    With ``r = |v/vs|^delta``, ``dr/dv = delta r / v``: ``g' = -(Fs - Fc)
+    exp(-r) delta r / v`` for the exponential shape and ``-(Fs - Fc) delta r
+    / (v (1 + r)^2)`` for the rational one.
+    """
+    ratio = stribeck_ratio(v, stribeck_velocity, exponent)
+    if shape == RATIONAL:
+        decay = 1.0 / (1.0 + ratio)
+        decay = decay * decay
+    else:
+        decay = exact_exp(-ratio)
+    return -(static_force - coulomb_force) * decay * exponent * ratio / v
+
+
+@jit(inline="always")
 def sign(v):
     """sgn with sgn(0) = 0 (:ref:`guide-conventions`)."""
     if v > 0.0:
