@@ -350,7 +350,10 @@ def test_without_a_ball_the_load_step_is_the_solver_and_element_law_as_they_were
     """Bit for bit: the separation and rows are the solvers' and element laws' own numbers.
 
     Composed here from the functions the load step called before a ball could
-    scale it (the load itself solved, ``G*`` and ``mu_s`` as given).
+    scale it (the load itself solved, ``G*`` and ``mu_s`` as given).  A measured
+    map's separation is the plain Newton solver's to 1e-10 (the load step sums
+    the load from the element rows it fills), and its rows are the element
+    law's at that separation, bit for bit.
     """
     for name, model in no_ball_models(rough_map).items():
         peak = model.params["normal_load"]
@@ -376,6 +379,10 @@ def test_without_a_ball_the_load_step_is_the_solver_and_element_law_as_they_were
                                       radii)
                 d = plastic_newton(load, start, lower, before[slots.UPPER], surface, heights,
                                    counts, asperities, radii)[0]
+                # As for a measured map below: the same root within the solver's tolerance, its rows bit for bit.
+                assert scalars[slots.SEPARATION] == pytest.approx(d, rel=1e-10, abs=0.0), \
+                    (name, load)
+                d = scalars[slots.SEPARATION]
                 stiffness, capacity = np.empty(n), np.empty(n)
                 plastic.plastic_element_properties(
                     heights, counts, asperities, radii, d, R, E, G, mu, surface[CRITICAL_FACTOR],
@@ -395,6 +402,12 @@ def test_without_a_ball_the_load_step_is_the_solver_and_element_law_as_they_were
                         before[slots.UPPER], before[slots.SURFACE_KIND], before[slots.LOAD_SCALE],
                         before[slots.HEIGHT_STD], heights, counts, before[slots.HERTZ],
                         before[slots.ADDRESSES:slots.ADDRESSES + 2])[0]
+                # The load step's Newton evaluates the load as the sum of the element
+                # rows it fills (one pass): the same root within the solver's tolerance (1e-10), the
+                # sum taken in another order; the rows are the element law's at its root.
+                assert scalars[slots.SEPARATION] == pytest.approx(d, rel=1e-10, abs=0.0), \
+                    (name, load)
+                d = scalars[slots.SEPARATION]
                 stiffness, capacity = np.empty(n), np.empty(n)
                 element_properties(heights, counts, d, R, E, G, mu, stiffness, capacity)
             assert scalars[slots.SEPARATION] == d, (name, load)

@@ -569,10 +569,10 @@ def test_the_solver_runs_its_matrix_products_on_one_blas_thread(monkeypatch):
 
 
 def rough_fit_case():
-    """Pol-Ind (64 height bins) behind a rig spring on the first 4,000 samples of the real
+    """Pol-Ind (64 height bins) behind a rig spring on the first 4,500 samples of the real
     record, four values free: the spring's solve puts kinks into the sum of squares."""
     record = datasets.tribometer()
-    data = {key: np.asarray(values)[:4000] for key, values in record.items()}
+    data = {key: np.asarray(values)[:4500] for key, values in record.items()}
     level = float(np.percentile(np.abs(data["F"]), 90))
     load = float(np.median(data["normal_load"]))
     table = default_table()
@@ -617,7 +617,7 @@ def gain(stopped, onwards, tau):
 
 def test_correlated_residuals_end_a_start_earlier_than_independent_ones(monkeypatch):
     """The stop rules weigh a gain against tau noise variances: on the real record (tau
-    near 190 samples) a start ends in fewer simulations than where its residuals are
+    near 195 samples) a start ends in fewer simulations than where its residuals are
     taken for independent (tau = 1), within a tenth of a standard error of correlated
     residuals of that fit, and what the longer fit gains is less than fitting its four
     values to noise would."""
