@@ -30,7 +30,7 @@ element counts ``n_j``, a measured map's summit weights), so with
 ``r = A0(N) / A0(N_t) = (N / N_t)^(2/3)``, ``N_t`` the load the table was
 built at (:data:`BALL_LOAD`), the separation at ``N`` is the one that solves
 ``N_t``'s surface at ``N / r`` and every element row is ``r`` times that
-surface's row (:func:`area_ratio`, :func:`new_capacities`).  Without a ball
+surface's row (:func:`area_ratio`, :func:`statistical_capacities`).  Without a ball
 ``r`` is exactly 1 and nothing changes, to the bit.
 
 The separation and the element rows at a new load come from a *capacities
@@ -113,20 +113,6 @@ N_ROWS = 7
 
 
 @jit(inline="always")
-def statistical_separation(scalars, heights, counts, normal_load):
-    """``(d, NaN, NaN)`` of a statistical surface.
-
-    By :func:`polind.kernels.separation.statistical_separation_only`: the
-    inverse of its fast ``N(d)``, no array passed.  ``N(d)`` and ``dN/dd``
-    serve only a direct surface's next start.
-    """
-    separation = statistical_separation_only(
-        normal_load, scalars[LOWER], scalars[UPPER], scalars[LOAD_SCALE], scalars[HEIGHT_STD],
-        scalars[ADDRESSES + KVE], scalars[ADDRESSES + IVE])
-    return separation, math.nan, math.nan
-
-
-@jit(inline="always")
 def area_ratio(scalars, normal_load):
     """``(r, N / r)`` of a ball on a flat, ``r = A0(N) / A0(N_t) = (N / N_t)^(2/3)``; or ``(1, N)``.
 
@@ -144,36 +130,33 @@ def area_ratio(scalars, normal_load):
 
 
 @jit(inline="always")
-def new_capacities(separation_function, scalars, table, state, normal_load):
-    """Solve the separation and evaluate the stiffness and capacity rows there; return ``d``.
+def statistical_capacities(scalars, table, state, normal_load):
+    """Solve a statistical surface's separation and evaluate the stiffness and capacity rows there.
 
-    ``separation_function`` is :func:`statistical_separation` (a direct
-    surface has :func:`direct_capacities`).  Stores nothing else: the caller updates the
+    Returns ``d``.  The separation is
+    :func:`polind.kernels.separation.statistical_separation_only` (the
+    inverse of its fast ``N(d)``, no array passed; a direct surface has
+    :func:`direct_capacities`).  Stores nothing else: the caller updates the
     weights and the elements.  With a ball (:func:`area_ratio` ``r``) the
     surface of the scalars, built at the table load, is solved at ``N / r``
     and the rows are ``r`` times its rows: ``r`` scales ``G*`` for the
     stiffnesses and ``mu_s`` for the capacities, both linear in them (without
     a ball both products are by exactly 1 and the load is solved as given).
-    ``N(d)`` and its slope are kept for the surface at the table load, as the
-    next start needs.
+    ``N(d)`` and its slope serve only a direct surface's next start: NaN here.
     """
     n = table.shape[1]
     heights = state[2 * n:3 * n]
     counts = state[3 * n:4 * n]
     ratio, load = area_ratio(scalars, normal_load)
-    separation, value, slope = separation_function(scalars, heights, counts, load)
+    separation = statistical_separation_only(
+        load, scalars[LOWER], scalars[UPPER], scalars[LOAD_SCALE], scalars[HEIGHT_STD],
+        scalars[ADDRESSES + KVE], scalars[ADDRESSES + IVE])
     element_properties(heights, counts, separation, scalars[RADIUS], scalars[E_STAR],
                        scalars[G_STAR] * ratio, scalars[STATIC_COEFFICIENT] * ratio,
                        table[ELEMENT_STIFFNESS], table[ELEMENT_SCRATCH])
-    scalars[LOAD_VALUE] = value
-    scalars[LOAD_SLOPE] = slope
+    scalars[LOAD_VALUE] = math.nan
+    scalars[LOAD_SLOPE] = math.nan
     return separation
-
-
-@jit(inline="always")
-def statistical_capacities(scalars, table, state, normal_load):
-    """:func:`new_capacities` of a statistical surface."""
-    return new_capacities(statistical_separation, scalars, table, state, normal_load)
 
 
 @jit(inline="always")
@@ -205,7 +188,7 @@ def direct_rows_surface(d, evaluation):
 
 @jit(inline="always")
 def direct_capacities(scalars, table, state, normal_load):
-    """:func:`new_capacities` of a direct surface: each Newton evaluation fills the rows.
+    """:func:`statistical_capacities` of a direct surface: each Newton evaluation fills the rows.
 
     The elements are the summits, so the evaluation of ``N(d)`` is the pass
     over the rows (:func:`direct_rows_surface`), vectorised: 2.7 µs against
@@ -229,7 +212,7 @@ def direct_capacities(scalars, table, state, normal_load):
 
 @jit(inline="always")
 def surface_capacities(scalars, table, state, normal_load):
-    """:func:`new_capacities` of the model's surface, either kind.
+    """:func:`statistical_capacities` or :func:`direct_capacities`, by the model's surface.
 
     The *capacities function* of the Hertzian step: given the load, it
     solves the separation, fills the stiffness and capacity rows and returns

@@ -65,7 +65,7 @@ def plastic_capacities(scalars, table, state, normal_load):
     one the highest element alone carrying the load; start: the Newton step
     predicted from the previous solution.  With a ball the surface of the
     table load is solved at ``N / r`` and the rows are ``r`` times its own
-    (:func:`polind.kernels.pol_ind.new_capacities`; ``G*`` and ``mu_s``
+    (:func:`polind.kernels.pol_ind.statistical_capacities`; ``G*`` and ``mu_s``
     scaled, the rows being linear in both).
     """
     ratio, load = area_ratio(scalars, normal_load)

@@ -65,7 +65,7 @@ def stribeck_curve(v, coulomb_force, static_force, stribeck_velocity, exponent, 
 
 @jit(inline="always")
 def stribeck_slope(v, coulomb_force, static_force, stribeck_velocity, exponent, shape):
-    """``dg/dv`` [N s/m] of :func:`stribeck_curve` at ``v != 0`` (0 where ``g`` is flat to the bit).
+    """``dg/dv`` [N s/m] of :func:`stribeck_curve` at ``v != 0`` (0 for ``Fs = Fc``).
 
     With ``r = |v/vs|^delta``, ``dr/dv = delta r / v``: ``g' = -(Fs - Fc)
     exp(-r) delta r / v`` for the exponential shape and ``-(Fs - Fc) delta r
