@@ -101,3 +101,19 @@ def test_bench_runs_the_processes_only_when_asked(monkeypatch, capsys):
     out = capsys.readouterr().out
     assert len(calls) == 1 and "whole process" in out and "target (same run)" in out
     assert "warm: fit pol-ind map + compliance" in out
+
+
+def test_the_note_on_bytecode_appears_only_where_processes_compile_their_libraries(
+        monkeypatch, tmp_path):
+    import importlib.util
+
+    import numba
+
+    compiled = tmp_path / "numba.pyc"
+    monkeypatch.setattr(importlib.util, "cache_from_source", lambda path: str(compiled))
+    assert processes.bytecode_note({}) == ""                  # the first process writes it
+    note = processes.bytecode_note({"PYTHONDONTWRITEBYTECODE": "1"})
+    assert "--compile-bytecode" in note and "\n" not in note  # missing and never written
+    compiled.write_bytes(b"")
+    assert processes.bytecode_note({"PYTHONDONTWRITEBYTECODE": "1"}) == ""   # installed
+    assert numba.__file__.endswith("__init__.py")

@@ -10,12 +10,19 @@ its kernels there then), so every kernel it needs is compiled; and then
 *warm*, best of ``warm_runs`` runs with the same directory, so every kernel
 is loaded.  Each row counts the files numba wrote into the empty directory
 (more than none: the cold run compiled) and the files the warm runs added or
-changed (none: they compiled nothing that numba can cache).  A kernel numba
-cannot keep on disk is compiled again in every process, warm or cold, and
-writes nothing: the runners of a mounted model (a ``[model.compliance]``,
-:mod:`polind.kernels.series`) take the model's functions as arguments and are
-``cache=False``, so their compile time shows in the warm seconds, not in
-these counts.
+changed (none: every kernel the case needs is kept on disk, the runners of a
+mounted model included; only the runners of a model registered from outside
+polind, :func:`polind.kernels.generate.runners_for`, are compiled in every
+process, and no case runs one).
+
+A warm process still imports numba, NumPy and SciPy.  It reads them from
+their ``.pyc`` files where those exist; where they do not and Python may not
+write them (``PYTHONDONTWRITEBYTECODE``, set in many containers, with a
+package installer that leaves them out: uv does unless asked), every process
+compiles those libraries' sources again, which adds about a second to every
+row (``import numba`` 0.9 s instead of 0.3 s on the development machine) and
+makes every cold/warm ratio smaller.  :func:`bytecode_note` says so under the
+table.
 
 The cases (:func:`case_names`): ``polind simulate`` of each registered
 model's ``example()`` along a 2000-sample motion CSV; LuGre and the default
@@ -37,6 +44,7 @@ map with a compliance (at most 30 s).
 
 from __future__ import annotations
 
+import importlib.util
 import os
 import subprocess
 import sys
@@ -379,6 +387,34 @@ def format_processes(rows):
                      f"{MISSING if ratio is None else format(ratio, '.2f'):>11}"
                      f"{r.cache_files:>13}{r.warm_changes:>13}")
     return "\n".join(lines)
+
+
+def bytecode_note(environment=None) -> str:
+    """A line under the table when its processes compile their libraries' sources, else ``""``.
+
+    Parameters
+    ----------
+    environment : mapping, optional
+        The processes' environment; default :data:`os.environ` (what
+        :func:`run_process` passes on).
+
+    Returns
+    -------
+    str
+        Empty when numba's installed ``__init__.py`` has its ``.pyc`` or the
+        processes may write it (the first, cold, process then does); else the
+        note of the module docstring, with the remedy.
+    """
+    import numba
+
+    environment = os.environ if environment is None else environment
+    compiled = os.path.exists(importlib.util.cache_from_source(numba.__file__))
+    if compiled or not environment.get("PYTHONDONTWRITEBYTECODE"):
+        return ""
+    return ("note: numba has no .pyc files and PYTHONDONTWRITEBYTECODE is set, so every "
+            "process above compiled numba's, NumPy's and SciPy's sources (about 1 s more "
+            "per process, smaller cold/warm ratios); install with `uv pip install "
+            "--compile-bytecode` (as `make` does) to time what a user with bytecode waits for")
 
 
 def format_targets(rows):
