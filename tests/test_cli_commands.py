@@ -225,19 +225,6 @@ def test_demo_runs_any_model_alone_beside_its_peers(tmp_path, capsys):
     assert "LuGre" in page
 
 
-def test_demo_writes_the_report(tmp_path, capsys):
-    out_dir = tmp_path / "report"
-    status, out, err = run(capsys, "demo", "--out", out_dir)
-    assert status == 0, err
-    metrics = json.loads((out_dir / "metrics.json").read_text())
-    assert set(metrics) == {"stribeck", "presliding_memory", "frictional_lag", "non_drifting",
-                            "stick_slip", "breakaway"}
-    assert all(entry["passed"] is True for entry in metrics.values())
-    assert (out_dir / "report.html").exists()
-    assert len(list(out_dir.glob("*.png"))) >= 6
-    assert "stick_slip" in out
-
-
 def test_bench_rejects_an_unknown_model(capsys):
     status, _, err = run(capsys, "bench", "--model", "friction-9000")
     assert status == 2

@@ -149,11 +149,15 @@ def test_the_force_fmu_is_the_body(tmp_path, model_type):
     t = H * np.arange(N)
     level = model.characteristic_scales()["static_force"]
     force = 1.6 * level * np.sin(2 * np.pi * 3.0 * t)
-    # the FMU's parameter mass (built with 3 kg) set to 2 kg before the run
-    rows = np.array(_drive(tmp_path, {
+    # the FMU's parameter mass (built with 3 kg) set to 2 kg before the run; after it,
+    # LuGre's FMU is given a step that is not a multiple of the time step (0.7 ms against
+    # 0.25 ms), which it refuses
+    refuse = model_type == "lugre"
+    out = _drive(tmp_path, {
         "fmu": str(fmu), "model": str(_model_file(tmp_path, model)), "input": "force",
         "mass": mass, "time_step": time_step, "t": t.tolist(), "h": H,
-        "force": force.tolist(), "parameters": {"mass": mass}})["xvF"])
+        "force": force.tolist(), "parameters": {"mass": mass}, "bad_step": refuse})
+    rows = np.array(out["xvF"])
     body = polind.Body(model, mass=mass, time_step=time_step)
     expected = [(body.position, body.velocity, body.friction)]
     for value in force:
@@ -163,20 +167,14 @@ def test_the_force_fmu_is_the_body(tmp_path, model_type):
     expected = np.array(expected)
     np.testing.assert_array_equal(rows, expected)
     assert np.max(np.abs(expected[:, 1])) > 1e-3                             # it slid
-
-
-def test_a_step_that_is_not_a_multiple_of_the_time_step_is_refused(tmp_path):
-    model = LuGre.example()
-    fmu = _build(tmp_path, model, "--input", "force")
-    out = _drive(tmp_path, {"fmu": str(fmu), "model": str(_model_file(tmp_path, model)),
-                            "input": "force", "mass": 1.0, "time_step": 1e-3,
-                            "t": [0.0, H], "h": H, "force": [0.0, 0.0], "bad_step": True})
-    assert "fmi2DoStep failed" in out["bad_step"]
+    if refuse:
+        assert "fmi2DoStep failed" in out["bad_step"]
 
 
 def test_the_fmu_describes_itself(tmp_path):
     model = LuGre.example()
-    position = fmpy.read_model_description(str(_build(tmp_path, model)))
+    position_fmu = _build(tmp_path, model)
+    position = fmpy.read_model_description(str(position_fmu))
     body = fmpy.read_model_description(str(_build(tmp_path, model, "--input", "force")))
     assert position.fmiVersion == body.fmiVersion == "2.0"
     assert position.coSimulation.modelIdentifier == "PolindFriction"
@@ -188,7 +186,7 @@ def test_the_fmu_describes_itself(tmp_path):
         ("x", "output"), ("v", "output"), ("F", "output")]
     assert position.coSimulation.canHandleVariableCommunicationStepSize
     assert not body.coSimulation.canHandleVariableCommunicationStepSize
-    with zipfile.ZipFile(_build(tmp_path, model)) as archive:
+    with zipfile.ZipFile(position_fmu) as archive:
         config = json.loads(archive.read("resources/polind_fmu.json"))
         requirements = archive.read("resources/requirements.txt").decode()
     assert polind.model_from_dict(config["model"]) == model

@@ -8,10 +8,6 @@ from __future__ import annotations
 
 import ast
 import math
-import os
-import subprocess
-import sys
-import textwrap
 from pathlib import Path
 
 import numba
@@ -135,55 +131,6 @@ def test_addresses_may_be_float64_and_are_computed_once():
     np.testing.assert_array_equal(as_floats.astype(np.int64), ADDRESSES)
     assert kve(0.25, 1.7, as_floats) == special.kve(0.25, 1.7)
     assert ive(-0.75, 1.7, as_floats) == special.ive(-0.75, 1.7)
-
-
-CACHE_SCRIPT = textwrap.dedent(
-    """
-    import warnings
-    from numba.core.errors import NumbaWarning
-    warnings.simplefilter("error", NumbaWarning)
-    import numpy as np
-    from polind.kernels.greenwood import gw_half_integer_pair, gw_half_integer_pair_fast
-    from polind.kernels.separation import STATISTICAL, newton_separation
-    from polind.kernels.special import kve, special_addresses
-
-    addresses = special_addresses()
-    sigma = 0.5e-6
-    d, value, slope = newton_separation(100.0, 0.0, -5 * sigma, 10 * sigma, STATISTICAL, 3.8e5, sigma,
-                                        np.empty(0), np.empty(0), 0.0, addresses)
-    assert abs(value - 100.0) <= 1e-8, value
-    gw_half_integer_pair(0.3, addresses)
-    gw_half_integer_pair_fast(0.3, addresses)
-    kve(0.25, 1.0, addresses)
-    for function in (newton_separation, gw_half_integer_pair, gw_half_integer_pair_fast, kve):
-        print(function.__name__, sum(function.stats.cache_hits.values()),
-              sum(function.stats.cache_misses.values()))
-    """
-)
-
-
-def test_kernels_calling_scipy_are_cached(tmp_path):
-    """A function pointer as a global would stop numba caching; the run-time addresses do not."""
-    environment = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache")}
-    runs = []
-    for _ in range(2):
-        result = subprocess.run([sys.executable, "-c", CACHE_SCRIPT], env=environment, capture_output=True,
-                                text=True, timeout=600)
-        assert result.returncode == 0, result.stderr
-        assert "NumbaWarning" not in result.stderr and "cannot cache" not in result.stderr.lower()
-        lines = [line.split() for line in result.stdout.splitlines()]
-        runs.append({fields[0]: tuple(map(int, fields[1:])) for fields in lines})
-    first, second = runs
-    # (the fast pair's coefficient tables are global arrays, frozen into the cached code)
-    for name in ("newton_separation", "gw_half_integer_pair", "gw_half_integer_pair_fast", "kve"):
-        assert first[name] == (0, 1)            # compiled and saved
-        assert second[name] == (1, 0)           # loaded from the cache
-    files = [path.name for path in (tmp_path / "cache").rglob("*")]
-    for stem in ("special.kve", "greenwood.gw_half_integer_pair-", "greenwood.gw_half_integer_pair_fast",
-                 "separation.newton_separation-"):
-        for suffix in (".nbi", ".nbc"):
-            found = any(name.startswith(stem) and name.endswith(suffix) for name in files)
-            assert found, (stem, suffix, files)
 
 
 def test_kernels_do_not_import_the_layers_above():

@@ -19,14 +19,74 @@ LABELS = ("Pol-Ind", "LuGre", "GMS", "Maxwell-slip")
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 
 
+class RecordingBar:
+    """The command's progress bar, recording what run_demo tells it."""
+
+    def __init__(self, bar):
+        self.bar, self.said = bar, []
+
+    @property
+    def total(self):
+        return self.bar.total
+
+    @total.setter
+    def total(self, value):
+        self.bar.total = value
+
+    def refresh(self):
+        self.bar.refresh()
+
+    def set_description_str(self, text):
+        self.said.append(("description", text))
+        self.bar.set_description_str(text)
+
+    def update(self, k=1):
+        self.said.append(("update", k))
+        self.bar.update(k)
+
+
 @pytest.fixture(scope="module")
 def demo_run(tmp_path_factory):
-    from polind.demo import run_demo
+    """``polind demo --out DIR`` run once, in this process as the CLI tests run commands:
+    ``(DIR, the summary its run_demo returned, the command's record)``, the record holding
+    its exit status, standard output and error, and its progress bar's calls."""
+    import contextlib
+    import io
+
+    from polind import cli, demo
 
     out = tmp_path_factory.mktemp("report")
-    calls = []
-    summary = run_demo(out, progress=lambda done, total, what: calls.append((done, total, what)))
-    return out, summary, calls
+    real_run_demo, seen = demo.run_demo, {}
+
+    def recorded(out_dir, progress=None, **options):
+        seen["bar"] = RecordingBar(progress)
+        seen["summary"] = real_run_demo(out_dir, progress=seen["bar"], **options)
+        return seen["summary"]
+
+    stdout, stderr = io.StringIO(), io.StringIO()
+    with pytest.MonkeyPatch.context() as patch, contextlib.redirect_stdout(stdout), \
+            contextlib.redirect_stderr(stderr):
+        patch.delenv("POLIND_DEBUG", raising=False)
+        patch.setattr(demo, "run_demo", recorded)
+        with pytest.raises(SystemExit) as exit_info:
+            cli.main(["demo", "--out", str(out)])
+    command = {"status": exit_info.value.code, "out": stdout.getvalue(),
+               "err": stderr.getvalue(), "bar": seen.get("bar")}
+    assert command["status"] == 0, command["err"]
+    return out, seen["summary"], command
+
+
+def test_the_command_exits_0_and_prints_the_table(demo_run):
+    out, summary, command = demo_run
+    assert command["status"] == 0, command["err"]
+    metrics = json.loads((out / "metrics.json").read_text())
+    assert set(metrics) == {"stribeck", "presliding_memory", "frictional_lag", "non_drifting",
+                            "stick_slip", "breakaway"}
+    assert all(entry["passed"] is True for entry in metrics.values())
+    assert (out / "report.html").exists()
+    assert len(list(out.glob("*.png"))) >= 6
+    assert "stick_slip" in command["out"]
+    assert summary["table"] in command["out"]
 
 
 def test_every_file_is_written(demo_run):
@@ -117,11 +177,16 @@ def test_summary_table(demo_run):
 
 
 def test_progress_callback(demo_run):
-    _, _, calls = demo_run
+    """The command's bar is told every experiment and the report, one update each, with
+    its total; :func:`test_experiments_in_processes_equal_those_in_this_process` checks
+    the same hook given a function ``progress(done, total, what)``."""
+    _, _, command = demo_run
     total = len(LABELS) * len(PHENOMENA) + 1
-    assert [done for done, _, _ in calls] == list(range(1, total + 1))
-    assert {count for _, count, _ in calls} == {total}
-    assert calls[-1][2] == "report"
+    said = command["bar"].said
+    assert said[0::2] == [("description", text) for _, text in said[0::2]]
+    assert said[1::2] == [("update", 1)] * total and len(said) == 2 * total
+    assert command["bar"].total == total
+    assert said[-2] == ("description", "report")
 
 
 def test_progress_bar_object():
@@ -475,10 +540,16 @@ def test_experiments_in_processes_equal_those_in_this_process():
     from polind.demo import _experiments, _experiments_in_processes
     from polind.models import MODEL_TYPES
 
+    from polind.demo import _progress_hooks
+
     dahl = MODEL_TYPES["dahl"].example()
     said = []
     pooled = _experiments_in_processes({"a": dahl, "b": dahl}, 2, said.append)
-    here = _experiments("a", dahl)
+    calls = []          # a progress function: progress(done, total, description)
+    total = len(PHENOMENA) + 1
+    here = _experiments("a", dahl, _progress_hooks(
+        lambda done, count, what: calls.append((done, count, what)), total))
+    assert calls == [(k + 1, total, f"{phenomenon}: a") for k, phenomenon in enumerate(PHENOMENA)]
     assert list(pooled) in (["a", "b"], ["b", "a"]) and len(said) == 2 * len(PHENOMENA)
     for phenomenon in PHENOMENA:
         assert _same(vars(pooled["a"][phenomenon]), vars(here[phenomenon])), phenomenon

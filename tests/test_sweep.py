@@ -48,11 +48,11 @@ def write_toml(path, document):
     return path
 
 
-@pytest.fixture
-def files(tmp_path):
-    """A LuGre model file and a system file, and a writer of sweep files beside them."""
-    write_toml(tmp_path / "lugre.toml", {"model": LUGRE_1995})
-    write_toml(tmp_path / "system.toml", SYSTEM)
+def sweep_files(folder):
+    """A LuGre model file and a system file in ``folder``, and a writer of sweep files
+    beside them."""
+    write_toml(folder / "lugre.toml", {"model": LUGRE_1995})
+    write_toml(folder / "system.toml", SYSTEM)
 
     def sweep_file(parameters=None, name="sweep.toml", **extra):
         table = {"model": "lugre.toml", "system": "system.toml", "metrics": ALL_METRICS,
@@ -61,9 +61,15 @@ def files(tmp_path):
             "system.spring_drive.velocity": {"values": [0.05, 0.2]},
             "system.spring_drive.stiffness": {"range": [10.0, 100.0], "scale": "log",
                                               "count": 3}}
-        return write_toml(tmp_path / name, {"sweep": table})
+        return write_toml(folder / name, {"sweep": table})
 
     return sweep_file
+
+
+@pytest.fixture
+def files(tmp_path):
+    """:func:`sweep_files` in the test's own folder."""
+    return sweep_files(tmp_path)
 
 
 def rows(table):
@@ -220,13 +226,23 @@ def engine_sweep(files):
                                                    "count": 3}})
 
 
-def test_one_and_two_threads_give_identical_rows(files, tmp_path):
-    path = engine_sweep(files)
-    one = polind.sweep(path, tmp_path / "one.csv", workers=1)
-    two = polind.sweep(path, tmp_path / "two.parquet", workers=2)
+@pytest.fixture(scope="module")
+def engine_runs(tmp_path_factory):
+    """The engine sweep run once on one thread (one.csv) and once on two (two.parquet), and
+    the map of the second drawn (two.png): ``(folder, one, two)``."""
+    folder = tmp_path_factory.mktemp("engines")
+    path = engine_sweep(sweep_files(folder))
+    one = polind.sweep(path, folder / "one.csv", workers=1)
+    two = polind.sweep(path, folder / "two.parquet", workers=2)
+    plot_results(folder / "two.parquet", path, folder / "two.png")
+    return folder, one, two
+
+
+def test_one_and_two_threads_give_identical_rows(engine_runs):
+    folder, one, two = engine_runs
     same_rows(rows(one.table), rows(two.table))
-    same_rows(rows(read_results(tmp_path / "one.csv")),
-              rows(read_results(tmp_path / "two.parquet")))
+    same_rows(rows(read_results(folder / "one.csv")),
+              rows(read_results(folder / "two.parquet")))
 
 
 def test_a_dask_cluster_of_two_processes_gives_identical_rows(files, tmp_path):
@@ -278,7 +294,8 @@ def test_an_interrupted_sweep_run_again_has_every_run_exactly_once(files, tmp_pa
 
 def test_a_killed_sweep_keeps_its_finished_rows(files, tmp_path):
     """SIGKILL mid-way (no clean-up at all): a row cut short is dropped, the others kept."""
-    path = files({"system.spring_drive.velocity": {"range": [0.01, 0.1], "count": 40},
+    # 16 runs of about 0.15 s each: killed after 3, with a dozen left to run again
+    path = files({"system.spring_drive.velocity": {"range": [0.01, 0.1], "count": 16},
                   "system.time_step": {"values": [2e-5]}}, metrics=["mean_force"])
     out = tmp_path / "killed.csv"
     script = ("import polind, sys; polind.sweep(sys.argv[1], sys.argv[2], workers=1)")
@@ -294,11 +311,11 @@ def test_a_killed_sweep_keeps_its_finished_rows(files, tmp_path):
     with out.open("a") as stream:             # as if it died in the middle of a row
         stream.write("17,0.0")
     kept = out.read_text().count("\n") - 1
-    assert 3 <= kept < 40
+    assert 3 <= kept < 16
     again = polind.sweep(path, out, workers=2)
-    assert again.computed == 40 - kept
+    assert again.computed == 16 - kept
     lines = out.read_text().splitlines()[1:]
-    assert sorted(int(line.split(",")[0]) for line in lines) == list(range(40))
+    assert sorted(int(line.split(",")[0]) for line in lines) == list(range(16))
 
 
 def test_a_failing_run_is_recorded_and_the_rest_complete(files, tmp_path):
@@ -463,18 +480,17 @@ def test_a_registered_metric_becomes_a_column(files, tmp_path):
 
 
 @pytest.mark.parametrize("method", ["grid", "random"])
-def test_plot_draws_a_line_over_one_parameter_and_a_map_over_two(files, tmp_path, method):
+def test_plot_draws_a_line_over_one_parameter_and_a_map_over_two(files, tmp_path, method,
+                                                                  engine_runs):
     extra = {"method": method, "samples": 6} if method == "random" else {}
     one = files({"system.spring_drive.velocity": {"range": [0.005, 0.2], "scale": "log",
                                                   "count": 4}}, name="one.toml",
                 metrics=["mean_force", "stuck_fraction"], **extra)
     polind.sweep(one, tmp_path / "one.csv", workers=2)
     plot_results(tmp_path / "one.csv", one, tmp_path / "one.png")
-    two = engine_sweep(files)
-    polind.sweep(two, tmp_path / "two.parquet", workers=2)
-    plot_results(tmp_path / "two.parquet", two, tmp_path / "two.png")
-    for png in ("one.png", "two.png"):
-        data = (tmp_path / png).read_bytes()
+    # the map over two parameters: the engine sweep's, drawn once (engine_runs)
+    for png in (tmp_path / "one.png", engine_runs[0] / "two.png"):
+        data = png.read_bytes()
         assert data.startswith(b"\x89PNG") and 5_000 < len(data) < 400_000
 
 
