@@ -43,8 +43,9 @@ def main(argv=None):
                                    flush=True))
     targets = processes.target_rows(rows)
     print("\n" + processes.format_targets(targets), flush=True)
-    if processes.bytecode_note():
-        print(processes.bytecode_note(), flush=True)
+    note = processes.bytecode_note()
+    if note:
+        print(note, flush=True)
     if args.json:
         with open(args.json, "w") as handle:
             json.dump({"processes": [asdict(r) | {"cold_over_warm": r.cold_over_warm}

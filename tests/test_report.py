@@ -537,10 +537,8 @@ def test_parameter_blocks_are_model_files(demo_run, tmp_path):
 def test_experiments_in_processes_equal_those_in_this_process():
     # A cheap model with every phenomenon: the pool's results are the in-process ones, bit
     # for bit.
-    from polind.demo import _experiments, _experiments_in_processes
+    from polind.demo import _experiments, _experiments_in_processes, _progress_hooks
     from polind.models import MODEL_TYPES
-
-    from polind.demo import _progress_hooks
 
     dahl = MODEL_TYPES["dahl"].example()
     said = []

@@ -124,5 +124,6 @@ def bench(models, big_files, processes):
 
             rows = whole.run_processes(progress=shown)
         click.echo("\n" + whole.format_targets(whole.target_rows(rows)))
-        if whole.bytecode_note():
-            click.echo(whole.bytecode_note())
+        note = whole.bytecode_note()
+        if note:
+            click.echo(note)
