@@ -58,6 +58,10 @@ OVERFLOW = 3
 #: Code of :func:`run_motion`: a sample time that is not finite or not after its
 #: predecessor (the caller names which, as :func:`check_times` would).
 BAD_TIME = 4
+#: Code of the runners' ``motion``: the model's blocks stopped at ``index`` (a block with
+#: a bad sample, or a motion they do not take); the samples from ``index`` on run one a
+#: pass (:func:`run_motion`), which finds and names the bad sample.
+BLOCKS_STOPPED = 5
 
 
 @jit(inline="always")
@@ -120,11 +124,58 @@ def motion_step(by_velocity, t0, t1, m0, m1, x0):
     return h, dx, w, m1, VALID if math.isfinite(w) else OVERFLOW
 
 
+def first_motion_sample(force, scalars, table, state, source_t, source_motion, t, motion,
+                        by_velocity, start_position, start_velocity, continuing, position,
+                        velocity, loads, constant_load, lo, hi, out_force):
+    """Copy and check sample ``lo``, the first of a motion, and its force: ``(code, index)``.
+
+    Plain Python, called once per run before :func:`run_motion` (or a
+    model's blocks) takes the samples after it: the force at the start is
+    the model's ``force`` at its state, at the first sample's velocity —
+    the given velocity, ``start_velocity`` when the motion ``continuing`` a
+    run starts at sample 0, else the first step's (:func:`motion_step`, the
+    same arithmetic as every later step), or ``start_velocity`` for a motion
+    of one sample.  Fills ``t``, ``motion`` and ``velocity`` (positions
+    given) or ``position`` (``start_position``, velocities given) at ``lo``
+    and ``out_force[lo]``; returns the codes of :func:`run_motion` for a bad
+    sample ``lo`` or ``lo + 1``.  Kept out of the compiled loop so that the
+    loop a run needs compiles without it.
+    """
+    t[lo] = source_t[lo]
+    motion[lo] = source_motion[lo]
+    if not math.isfinite(t[lo]):
+        return BAD_TIME, lo
+    if not math.isfinite(motion[lo]):
+        return NOT_FINITE, lo
+    if by_velocity:
+        if lo == 0:
+            position[0] = start_position
+        sample_velocity = motion[lo]
+    else:
+        if lo == 0 and continuing:
+            sample_velocity = start_velocity
+        elif lo + 1 < hi:
+            t1 = source_t[lo + 1]
+            if not (t1 > t[lo] and t1 < math.inf):
+                return BAD_TIME, lo + 1
+            # The compiled motion_step, for its arithmetic (and by_velocity, as run_motion
+            # passes it, for one compiled signature).
+            h, dx, sample_velocity, x1, code = motion_step(by_velocity, t[lo], t1, motion[lo],
+                                                           source_motion[lo + 1], 0.0)
+            if code != VALID:
+                return code, lo + 1
+        else:
+            sample_velocity = start_velocity
+        velocity[lo] = sample_velocity
+    load = loads[lo] if loads.shape[0] > 0 else constant_load
+    out_force[lo] = force(scalars, table, state, sample_velocity, load)
+    return VALID, -1
+
+
 @jit(inline="always")
-def run_motion(step, force, scalars, table, state, source_t, source_motion, t, motion,
-               by_velocity, start_position, start_velocity, continuing, position, velocity,
-               loads, constant_load, lo, hi, first, out_force):
-    """Copy, check and cut the samples ``lo .. hi - 1`` and run the model over them, in one pass.
+def run_motion(step, scalars, table, state, source_t, source_motion, t, motion, by_velocity,
+               position, velocity, loads, constant_load, lo, hi, out_force):
+    """Copy, check and cut the samples ``lo + 1 .. hi - 1`` and run the model over them, in one pass.
 
     The loop of :func:`polind.simulate`: it reads the sample times
     ``source_t`` and the ``source_motion`` (positions, or velocities with
@@ -132,44 +183,14 @@ def run_motion(step, force, scalars, table, state, source_t, source_motion, t, m
     same arrays as the sources), checks the times (finite, increasing) and
     the motion as :func:`check_times` and :func:`cut_path` would, and fills
     the other of ``position``/``velocity`` and ``out_force``, with no step
-    arrays and no separate copying or checking pass in between.
-    ``start_position``, ``start_velocity`` and ``continuing`` are
-    :func:`cut_path`'s, used at sample 0.  Returns ``(code, index)`` for the
-    first bad sample it meets: :data:`BAD_TIME` for a time that is not
-    finite or not after its predecessor, else :func:`cut_path`'s codes for
-    the motion; the caller re-checks the whole input to name the error as a
-    full check would.
+    arrays and no separate copying or checking pass in between.  Sample
+    ``lo`` is already done: the first sample of a run by
+    :func:`first_motion_sample`, else the last of the previous chunk.
+    Returns ``(code, index)`` for the first bad sample it meets:
+    :data:`BAD_TIME` for a time that is not finite or not after its
+    predecessor, else :func:`cut_path`'s codes for the motion; the caller
+    re-checks the whole input to name the error as a full check would.
     """
-    if first:
-        t[lo] = source_t[lo]
-        motion[lo] = source_motion[lo]
-        if not finite(t[lo]):
-            return BAD_TIME, lo
-        if by_velocity:
-            if lo == 0:
-                position[0] = start_position
-            if not finite(motion[lo]):
-                return NOT_FINITE, lo
-            sample_velocity = motion[lo]
-        else:
-            if not finite(motion[lo]):
-                return NOT_FINITE, lo
-            if lo == 0 and continuing:
-                sample_velocity = start_velocity
-            elif lo + 1 < hi:
-                t1 = source_t[lo + 1]
-                if not (t1 > t[lo] and t1 < math.inf):
-                    return BAD_TIME, lo + 1
-                # by_velocity (false here), not a literal False: one compiled motion_step.
-                h, dx, sample_velocity, x1, code = motion_step(by_velocity, t[lo], t1, motion[lo],
-                                                               source_motion[lo + 1], 0.0)
-                if code != VALID:
-                    return code, lo + 1
-            else:
-                sample_velocity = start_velocity
-            velocity[lo] = sample_velocity
-        out_force[lo] = force(scalars, table, state, sample_velocity,
-                              sample_load(loads, constant_load, lo))
     for k in range(lo + 1, hi):
         t0 = source_t[k - 1]
         t1 = source_t[k]

@@ -149,18 +149,34 @@ class StepKernel:
     def run_motion(self, source_t, source_motion, t, motion, by_velocity, start_position,
                    start_velocity, continuing, position, velocity, loads, lo, hi, first,
                    out_force):
-        """The runners' ``motion`` (the loop of :func:`polind.simulate`): ``(code, index)``.
+        """The loop of :func:`polind.simulate` over samples ``lo .. hi - 1``: ``(code, index)``.
 
         Copies ``source_t`` and ``source_motion`` into ``t`` and ``motion`` (they
-        may be the same arrays) as it checks and runs them.  Not for a mounted
-        model (a series spring or a load scaling), which runs from step arrays
-        (:meth:`run`).
+        may be the same arrays) as it checks and runs them.  With ``first``,
+        sample ``lo`` starts the run
+        (:func:`polind.kernels.contract.first_motion_sample`); the runners'
+        ``motion`` takes the rest, and where it stops (a model's blocks that
+        met a bad sample, or a motion they do not take) its
+        ``motion_samples``.  Not for a mounted model (a series spring or a
+        load scaling), which runs from step arrays (:meth:`run`).
         """
+        from polind.kernels.contract import BLOCKS_STOPPED, VALID, first_motion_sample
+
         loads = NO_LOADS if loads is None else loads
-        return self.runners.motion(self.scalars, self.table, self.state, source_t,
-                                   source_motion, t, motion, by_velocity, start_position,
-                                   start_velocity, continuing, position, velocity, loads,
-                                   self.normal_load, lo, hi, first, out_force)
+        if first:
+            code, index = first_motion_sample(self.force, self.scalars, self.table, self.state,
+                                              source_t, source_motion, t, motion, by_velocity,
+                                              start_position, start_velocity, continuing,
+                                              position, velocity, loads, self.normal_load, lo,
+                                              hi, out_force)
+            if code != VALID:
+                return code, index
+        arguments = (self.scalars, self.table, self.state, source_t, source_motion, t, motion,
+                     by_velocity, position, velocity, loads, self.normal_load)
+        code, index = self.runners.motion(*arguments, lo, hi, out_force)
+        if code == BLOCKS_STOPPED:
+            code, index = self.runners.motion_samples(*arguments, index, hi, out_force)
+        return code, index
 
     def integrate_system(self, *args):
         """The runners' ``integrate`` (``polind.kernels.dynamics.integrate_system_with``).

@@ -12,7 +12,8 @@ from polind.kernels.pol_ind import pol_ind_force as model_force
 from polind.kernels.pol_ind import pol_ind_tangent as model_tangent
 from polind.kernels.pol_ind import settled_step as model_settled
 from polind.kernels.buffer import body_sample, stepper_sample  # noqa: E402
-from polind.kernels.contract import VALID, no_blocks, run_motion, run_steps  # noqa: E402
+from polind.kernels.contract import (BLOCKS_STOPPED, VALID, no_blocks, run_motion,  # noqa: E402
+                                     run_steps)
 from polind.kernels.dynamics import (advance_body_with, bare_commit, bare_trial,  # noqa: E402
                                      body_advance_with, body_batch_with,
                                      body_step as body_step_with, integrate_system_with)
@@ -30,52 +31,35 @@ def path(scalars, table, state, step, displacement, step_velocity, sample_veloci
 
 @jit
 def motion_samples(scalars, table, state, source_t, source_motion, t, motion, by_velocity,
-                   start_position, start_velocity, continuing, position, velocity, loads,
-                   constant_load, lo, hi, first, out_force):
-    """:func:`polind.kernels.contract.run_motion` with the model's functions: one sample a pass."""
-    return run_motion(model_step, model_force, scalars, table, state, source_t, source_motion,
-                      t, motion, by_velocity, start_position, start_velocity, continuing,
-                      position, velocity, loads, constant_load, lo, hi, first, out_force)
+                   position, velocity, loads, constant_load, lo, hi, out_force):
+    """:func:`polind.kernels.contract.run_motion` with the model's step: one sample a pass."""
+    return run_motion(model_step, scalars, table, state, source_t, source_motion, t, motion,
+                      by_velocity, position, velocity, loads, constant_load, lo, hi, out_force)
 
 
 @jit
-def motion(scalars, table, state, source_t, source_motion, t, motion, by_velocity,
-           start_position, start_velocity, continuing, position, velocity, loads, constant_load,
-           lo, hi, first, out_force):
-    """The loop of :func:`polind.simulate`: ``(code, index)`` as :func:`motion_samples`.
+def motion(scalars, table, state, source_t, source_motion, t, motion, by_velocity, position,
+           velocity, loads, constant_load, lo, hi, out_force):
+    """The loop of :func:`polind.simulate` over samples ``lo + 1 ..``: ``(code, index)``.
 
     Where ``model_blocks`` allows it (positions, the parameters its block
-    handles), the samples after the first step run in blocks of
-    ``model_block``, which prepares a block in a pass with no dependence
-    between samples and returns the sample it stopped at, or -1 for a block
-    with a bad sample; that block and the rest then run through
-    :func:`motion_samples`, which finds and reports the bad sample.
+    handles), the samples run in blocks of ``model_block``, which prepares a
+    block in a pass with no dependence between samples and returns the
+    sample it stopped at, or -1 for a block with a bad sample.  Returns
+    :data:`~polind.kernels.contract.VALID`, or
+    :data:`~polind.kernels.contract.BLOCKS_STOPPED` and the sample from
+    which :func:`motion_samples` is to run the rest (it finds and reports
+    the bad sample).  The two are compiled apart, so that a run whose blocks
+    take every sample compiles only this one.
     """
-    if hi - lo < 3 or not model_blocks(scalars, by_velocity):
-        return motion_samples(scalars, table, state, source_t, source_motion, t, motion,
-                              by_velocity, start_position, start_velocity, continuing, position,
-                              velocity, loads, constant_load, lo, hi, first, out_force)
-    # Computed, not literal, booleans: a literal True or False would compile
-    # motion_samples once more for each.
-    yes, no = hi > lo, hi < lo
-    if first:
-        # The force at the start and the first step, at the start's velocity.
-        code, index = motion_samples(scalars, table, state, source_t, source_motion, t, motion,
-                                     by_velocity, start_position, start_velocity, continuing,
-                                     position, velocity, loads, constant_load, lo, lo + 2, yes,
-                                     out_force)
-        if code != VALID:
-            return code, index
-        lo += 1
+    if not model_blocks(scalars, by_velocity):
+        return BLOCKS_STOPPED, lo
     a = lo + 1
     while a < hi:
         b = model_block(scalars, table, state, source_t, source_motion, t, motion, velocity,
                         out_force, a, hi)
         if b < 0:
-            return motion_samples(scalars, table, state, source_t, source_motion, t, motion,
-                                  by_velocity, start_position, start_velocity, continuing,
-                                  position, velocity, loads, constant_load, a - 1, hi, no,
-                                  out_force)
+            return BLOCKS_STOPPED, a - 1
         a = b
     return VALID, -1
 
