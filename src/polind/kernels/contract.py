@@ -44,6 +44,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from polind.kernels import jit
 
 # Codes of :func:`check_times` and :func:`cut_path` (with the index of the first bad sample).
@@ -285,66 +287,61 @@ def no_trial(scalars, table, state, out, keep, step, displacement, step_velocity
     return math.nan, math.nan, -1
 
 
-@jit(fastmath=False)
 def check_times(t):
-    """``(code, index)``: the first non-finite sample time, else the first not after its predecessor."""
-    for k in range(t.shape[0]):
-        if not math.isfinite(t[k]):
-            return NOT_FINITE, k
-    for k in range(1, t.shape[0]):
-        if not t[k] > t[k - 1]:
-            return NOT_INCREASING, k
+    """``(code, index)``: the first non-finite sample time, else the first not after its predecessor.
+
+    NumPy, not a kernel: a few passes over the times, once per motion, and
+    nothing for the compiler to do.
+    """
+    finite = np.isfinite(t)
+    if not finite.all():
+        return NOT_FINITE, int(np.argmin(finite))
+    increasing = t[1:] > t[:-1]
+    if not increasing.all():
+        return NOT_INCREASING, int(np.argmin(increasing)) + 1
     return VALID, -1
 
 
-@jit(fastmath=False)
 def cut_path(t, motion, by_velocity, start_position, start_velocity, continuing, step,
              displacement, step_velocity, sample_velocity, position):
-    """Cut a prescribed motion into steps at constant velocity, in one pass (the user guide).
+    """Cut a prescribed motion into steps at constant velocity (the user guide).
 
     ``motion`` is the positions (``by_velocity`` false: linear between
     samples, step velocity ``(x[k] - x[k-1]) / h``, reported at sample ``k``;
     at sample 0 the first step's, or ``start_velocity`` when ``continuing``)
     or the velocities (each step at the mean of its end samples, positions
-    the trapezoidal integral from ``start_position``, added in order).  Fills
-    the five arrays indexed by the sample a step ends at (entry 0 of
-    ``step``, ``displacement`` and ``step_velocity`` is 0); ``position`` is
-    filled only with velocities.  Plain IEEE arithmetic, the same as NumPy's
-    ``diff`` and ``/``.  Returns ``(code, index)``: :data:`NOT_FINITE` for a
-    non-finite motion sample, :data:`OVERFLOW` where finite samples give a
-    non-finite step velocity or position, else :data:`VALID`.
+    the trapezoidal integral from ``start_position``, added in order: a
+    cumulative sum).  Fills the five arrays indexed by the sample a step ends
+    at (entry 0 of ``step``, ``displacement`` and ``step_velocity`` is 0);
+    ``position`` is filled only with velocities.  ``t`` has at least two
+    samples and is checked (:func:`check_times`).  Plain IEEE arithmetic in
+    NumPy, element by element the same operations as :func:`motion_step`
+    (and so as :func:`run_motion` and :class:`polind.Stepper`), bit for
+    bit.  Returns ``(code, index)``: :data:`NOT_FINITE` for a non-finite
+    motion sample, :data:`OVERFLOW` where finite samples give a non-finite
+    step velocity or position, else :data:`VALID`.
     """
-    n = t.shape[0]
-    for k in range(n):
-        if not math.isfinite(motion[k]):
-            return NOT_FINITE, k
-    step[0] = 0.0
-    displacement[0] = 0.0
-    step_velocity[0] = 0.0
-    if by_velocity:
-        position[0] = start_position
-    for k in range(1, n):
-        h = t[k] - t[k - 1]
-        step[k] = h
+    finite = np.isfinite(motion)
+    if not finite.all():
+        return NOT_FINITE, int(np.argmin(finite))
+    step[0] = displacement[0] = step_velocity[0] = 0.0
+    np.subtract(t[1:], t[:-1], out=step[1:])
+    with np.errstate(over="ignore", invalid="ignore"):
         if by_velocity:
-            velocity = 0.5 * (motion[k - 1] + motion[k])
-            increment = velocity * h
-            position[k] = position[k - 1] + increment
-            sample_velocity[k] = motion[k]
+            np.add(motion[:-1], motion[1:], out=step_velocity[1:])
+            np.multiply(step_velocity[1:], 0.5, out=step_velocity[1:])
+            np.multiply(step_velocity[1:], step[1:], out=displacement[1:])
+            displacement[0] = start_position        # the sum starts there; reset below
+            np.cumsum(displacement, out=position)
+            displacement[0] = 0.0
+            sample_velocity[:] = motion
+            finite = np.isfinite(position)
         else:
-            increment = motion[k] - motion[k - 1]
-            velocity = increment / h
-            sample_velocity[k] = velocity
-        displacement[k] = increment
-        step_velocity[k] = velocity
-    if by_velocity:
-        sample_velocity[0] = motion[0]
-        for k in range(n):
-            if not math.isfinite(position[k]):
-                return OVERFLOW, k
-    else:
-        sample_velocity[0] = start_velocity if continuing else step_velocity[1]
-        for k in range(1, n):
-            if not math.isfinite(step_velocity[k]):
-                return OVERFLOW, k
+            np.subtract(motion[1:], motion[:-1], out=displacement[1:])
+            np.divide(displacement[1:], step[1:], out=step_velocity[1:])
+            sample_velocity[1:] = step_velocity[1:]
+            sample_velocity[0] = start_velocity if continuing else step_velocity[1]
+            finite = np.isfinite(step_velocity)
+    if not finite.all():
+        return OVERFLOW, int(np.argmin(finite))
     return VALID, -1
