@@ -25,8 +25,8 @@ GENERATED = KERNELS / "generated"
 MARKER = "# --- template: every line below is copied into each generated module ---\n"
 
 #: Each runner module: the kernel module its functions come from, and each
-#: placeholder's function there (``settled`` defaults to ``step``; ``trial``,
-#: ``blocks`` and ``block`` to none).
+#: placeholder's function there (``settled`` and ``path_step`` default to
+#: ``step``; ``trial``, ``blocks`` and ``block`` to none).
 MODELS = {
     "memoryless": ("polind.kernels.static", {
         "step": "memoryless_step", "force": "memoryless_force",
@@ -50,13 +50,13 @@ MODELS = {
         "settled": "settled_step", "trial": "pol_ind_trial_step"}),
     "pol_ind_fixed_load": ("polind.kernels.pol_ind", {
         "step": "fixed_load_step", "force": "fixed_load_force", "tangent": "pol_ind_tangent",
-        "trial": "pol_ind_trial_step"}),
+        "trial": "pol_ind_trial_step", "path_step": "fixed_load_path_step"}),
     "pol_ind_plastic": ("polind.kernels.pol_ind_plastic", {
         "step": "plastic_step", "force": "plastic_force", "tangent": "pol_ind_tangent",
         "settled": "plastic_settled_step", "trial": "pol_ind_trial_step"}),
 }
 
-_PLACEHOLDERS = ("step", "force", "tangent", "settled")
+_PLACEHOLDERS = ("step", "force", "tangent", "settled", "path_step")
 
 
 def template_body() -> str:
@@ -68,7 +68,7 @@ def template_body() -> str:
 def render(name: str) -> str:
     """The source of the runner module ``name`` (a key of :data:`MODELS`)."""
     module, functions = MODELS[name]
-    functions = {"settled": functions["step"], **functions}
+    functions = {"settled": functions["step"], "path_step": functions["step"], **functions}
     lines = [f'"""The runners of {name} ({module}), generated from polind.kernels.template.',
              "",
              "Do not edit: ``python -m polind.kernels.generate`` writes this file again.",
@@ -128,7 +128,8 @@ def _compiled(step, force, tangent):
     namespace = {"__name__": "polind.kernels.template_for_" + getattr(step, "__name__", "model"),
                  "jit": functools.partial(jit, cache=False),
                  "model_step": step, "model_force": force, "model_tangent": tangent,
-                 "model_settled": step, "model_blocks": no_blocks, "model_block": no_block,
+                 "model_settled": step, "model_path_step": step, "model_blocks": no_blocks,
+                 "model_block": no_block,
                  "model_trial": no_trial}
     exec(compile(template_body(), str(TEMPLATE), "exec"), namespace)    # noqa: S102
     return SimpleNamespace(**{key: value for key, value in namespace.items()

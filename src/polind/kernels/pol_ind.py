@@ -64,10 +64,10 @@ import math
 from polind.kernels import jit
 from polind.kernels.elements import (ATTRACTION, ELEMENT_CAPACITY, ELEMENT_INVERSE,
                                      ELEMENT_STIFFNESS, STRIBECK_EXPONENT, STRIBECK_SHAPE,
-                                     STRIBECK_VELOCITY, VISCOUS, decay_factors,
+                                     STRIBECK_VELOCITY, VISCOUS, computed_decay, decay_factors,
                                      element_properties, element_sum, given_decay,
                                      gms_decayed_element, gms_force, gms_step_scaled,
-                                     gms_trial_scaled, stuck_stiffness)
+                                     gms_trial_scaled, inverse_row, stuck_stiffness)
 from polind.kernels.fastexp import decay_exp
 from polind.kernels.separation import (DIRECT, RELATIVE_TOLERANCE, direct_lower_bound,
                                        newton_iteration, predicted_start,
@@ -593,6 +593,15 @@ def load_unchanged(scalars, table, state, normal_load):
         stiffness[j] = math.nan
 
 
+@jit(inline="always")
+def fixed_load_table(scalars, table, state, normal_load):
+    """Bring the table of a fixed-load run up to date: its stale weights (:data:`TABLE_STALE`)."""
+    if normal_load != scalars[CURRENT_LOAD]:
+        load_unchanged(scalars, table, state, normal_load)
+    elif scalars[TABLE_STALE] != 0.0:
+        refresh_shares(scalars, table)
+
+
 @jit
 def fixed_load_step(scalars, table, state, step, displacement, step_velocity, sample_velocity,
                     normal_load):
@@ -602,18 +611,33 @@ def fixed_load_step(scalars, table, state, step, displacement, step_velocity, sa
     :func:`set_load` neither needed nor compiled: less than half the
     compilation of a cold process); stale weights (:data:`TABLE_STALE`) are
     still brought up to date.  :func:`pol_ind_step`'s forces at that load,
-    bit for bit, for the Hertzian and the elastic-plastic arrays alike.
+    bit for bit, for the Hertzian and the elastic-plastic arrays alike.  The
+    decay factors come from :func:`decay_row`, which keeps them for the
+    implicit solvers' trials (:func:`fixed_load_path_step` computes them in
+    the loop).
     """
-    # settled_step_with(load_unchanged, ...) written out: numba copies an inlined
-    # function's whole expanded body at each level it is inlined through, and this level
-    # cost a quarter of the step's compilation.
-    if normal_load != scalars[CURRENT_LOAD]:
-        load_unchanged(scalars, table, state, normal_load)
-    elif scalars[TABLE_STALE] != 0.0:
-        refresh_shares(scalars, table)
+    fixed_load_table(scalars, table, state, normal_load)
     n = table.shape[1]
     return gms_step_scaled(given_decay, decay_row, scalars, table, state[:n], state[n:2 * n],
                            step, displacement, step_velocity, sample_velocity,
+                           scalars[KINETIC_COEFFICIENT] * normal_load,
+                           scalars[STATIC_COEFFICIENT] * normal_load)
+
+
+@jit
+def fixed_load_path_step(scalars, table, state, step, displacement, step_velocity,
+                         sample_velocity, normal_load):
+    """:func:`fixed_load_step` for a prescribed path: each decay factor computed in the loop.
+
+    A prescribed path steps each sample once, so the rows :func:`decay_row`
+    keeps for the solvers' trials save nothing there; the GMS model's own
+    :func:`~polind.kernels.elements.computed_decay` gives the same factors,
+    to the bit, without the row's pass and its checks.
+    """
+    fixed_load_table(scalars, table, state, normal_load)
+    n = table.shape[1]
+    return gms_step_scaled(computed_decay, inverse_row, scalars, table, state[:n],
+                           state[n:2 * n], step, displacement, step_velocity, sample_velocity,
                            scalars[KINETIC_COEFFICIENT] * normal_load,
                            scalars[STATIC_COEFFICIENT] * normal_load)
 

@@ -8,9 +8,11 @@ behind a series spring (:mod:`polind.kernels.series`) — are templates that
 take those functions as arguments.  numba cannot keep a function that takes
 functions as arguments in its on-disk cache, so each model has a module of
 *runners*: the functions below, with the model's functions bound as the
-module's globals ``model_step``, ``model_force``, ``model_tangent`` and
+module's globals ``model_step``, ``model_force``, ``model_tangent``,
 ``model_settled`` (the step the body uses; Pol-Ind's skips its load
-update), ``model_trial`` (the model's read-only trial, or
+update), ``model_path_step`` (the step of a prescribed path, where no
+solver tries a step twice: the model's step unless it has a lighter one),
+``model_trial`` (the model's read-only trial, or
 :func:`polind.kernels.contract.no_trial`) and, for a model with a blocked
 motion path, ``model_blocks`` and ``model_block``.
 
@@ -32,7 +34,7 @@ from polind.kernels import jit
 from polind.kernels.contract import no_block as model_block, no_blocks as model_blocks
 from polind.kernels.contract import no_trial as model_trial
 
-model_step = model_force = model_tangent = model_settled = None
+model_step = model_force = model_tangent = model_settled = model_path_step = None
 
 # --- template: every line below is copied into each generated module ---
 from polind.kernels.buffer import body_sample, stepper_sample  # noqa: E402
@@ -49,16 +51,17 @@ from polind.kernels.series import (contact_trial, mounted_commit,  # noqa: E402
 def path(scalars, table, state, step, displacement, step_velocity, sample_velocity, loads,
          constant_load, lo, hi, first, out_force):
     """:func:`polind.kernels.contract.run_steps` with the model's functions."""
-    run_steps(model_step, model_force, scalars, table, state, step, displacement, step_velocity,
-              sample_velocity, loads, constant_load, lo, hi, first, out_force)
+    run_steps(model_path_step, model_force, scalars, table, state, step, displacement,
+              step_velocity, sample_velocity, loads, constant_load, lo, hi, first, out_force)
 
 
 @jit
 def motion_samples(scalars, table, state, source_t, source_motion, t, motion, by_velocity,
                    position, velocity, loads, constant_load, lo, hi, out_force):
     """:func:`polind.kernels.contract.run_motion` with the model's step: one sample a pass."""
-    return run_motion(model_step, scalars, table, state, source_t, source_motion, t, motion,
-                      by_velocity, position, velocity, loads, constant_load, lo, hi, out_force)
+    return run_motion(model_path_step, scalars, table, state, source_t, source_motion, t,
+                      motion, by_velocity, position, velocity, loads, constant_load, lo, hi,
+                      out_force)
 
 
 @jit

@@ -11,6 +11,7 @@ from polind.kernels.static import memoryless_step as model_step
 from polind.kernels.static import memoryless_force as model_force
 from polind.kernels.static import memoryless_tangent as model_tangent
 from polind.kernels.static import memoryless_step as model_settled
+from polind.kernels.static import memoryless_step as model_path_step
 from polind.kernels.buffer import body_sample, stepper_sample  # noqa: E402
 from polind.kernels.contract import (BLOCKS_STOPPED, VALID, no_blocks, run_motion,  # noqa: E402
                                      run_steps)
@@ -25,16 +26,17 @@ from polind.kernels.series import (contact_trial, mounted_commit,  # noqa: E402
 def path(scalars, table, state, step, displacement, step_velocity, sample_velocity, loads,
          constant_load, lo, hi, first, out_force):
     """:func:`polind.kernels.contract.run_steps` with the model's functions."""
-    run_steps(model_step, model_force, scalars, table, state, step, displacement, step_velocity,
-              sample_velocity, loads, constant_load, lo, hi, first, out_force)
+    run_steps(model_path_step, model_force, scalars, table, state, step, displacement,
+              step_velocity, sample_velocity, loads, constant_load, lo, hi, first, out_force)
 
 
 @jit
 def motion_samples(scalars, table, state, source_t, source_motion, t, motion, by_velocity,
                    position, velocity, loads, constant_load, lo, hi, out_force):
     """:func:`polind.kernels.contract.run_motion` with the model's step: one sample a pass."""
-    return run_motion(model_step, scalars, table, state, source_t, source_motion, t, motion,
-                      by_velocity, position, velocity, loads, constant_load, lo, hi, out_force)
+    return run_motion(model_path_step, scalars, table, state, source_t, source_motion, t,
+                      motion, by_velocity, position, velocity, loads, constant_load, lo, hi,
+                      out_force)
 
 
 @jit
