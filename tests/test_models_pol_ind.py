@@ -351,6 +351,35 @@ def test_the_fixed_load_step_refuses_another_load():
                                          1e-8, 1e-5, 1e-5, 100.0))
 
 
+@pytest.mark.parametrize("plastic", [False, True], ids=["hertz", "plastic"])
+def test_the_path_step_takes_only_a_fresh_table_at_its_load(plastic):
+    # A fixed-load kernel's arrays are fresh at the table's load, the one promise the path
+    # step (no upkeep of its own) relies on; a table that is stale or at another load gets
+    # a NaN force and no step, and the step agrees with the solvers' step to the bit.
+    from polind.kernels.pol_ind import (CURRENT_LOAD, TABLE_STALE, fixed_load_path_step,
+                                        fixed_load_step)
+
+    model = pol_ind(**({"materials.hardness": 2e9} if plastic else {}))
+    kernel = model.step_kernel(model.initial_state(), fixed_load=True)
+    assert kernel.scalars[CURRENT_LOAD] == kernel.normal_load == 100.0
+    assert kernel.scalars[TABLE_STALE] == 0.0
+    assert kernel.runners.motion_samples is not None
+    arguments = (1e-3, 1e-8, 1e-5, 1e-5)
+    for load, stale in ((90.0, 0.0), (100.0, 1.0)):
+        scalars, state = kernel.scalars.copy(), kernel.state.copy()
+        scalars[TABLE_STALE] = stale
+        assert math.isnan(fixed_load_path_step(scalars, kernel.table, state, *arguments, load))
+        np.testing.assert_array_equal(state, kernel.state)
+    a = model.step_kernel(model.initial_state(), fixed_load=True)
+    b = model.step_kernel(model.initial_state(), fixed_load=True)
+    for k in range(1, 200):
+        w = 2e-3 * math.cos(k / 15.0)
+        step = (1e-3, 1e-3 * w, w, w, 100.0)
+        assert fixed_load_path_step(a.scalars, a.table, a.state, *step) == \
+            fixed_load_step(b.scalars, b.table, b.state, *step)
+    np.testing.assert_array_equal(a.state, b.state)
+
+
 @pytest.mark.parametrize("varying", [False, True])
 def test_chunked_run_equals_one_run(varying):
     model = pol_ind(**{"discretisation.elements": 32})

@@ -593,15 +593,6 @@ def load_unchanged(scalars, table, state, normal_load):
         stiffness[j] = math.nan
 
 
-@jit(inline="always")
-def fixed_load_table(scalars, table, state, normal_load):
-    """Bring the table of a fixed-load run up to date: its stale weights (:data:`TABLE_STALE`)."""
-    if normal_load != scalars[CURRENT_LOAD]:
-        load_unchanged(scalars, table, state, normal_load)
-    elif scalars[TABLE_STALE] != 0.0:
-        refresh_shares(scalars, table)
-
-
 @jit
 def fixed_load_step(scalars, table, state, step, displacement, step_velocity, sample_velocity,
                     normal_load):
@@ -616,7 +607,13 @@ def fixed_load_step(scalars, table, state, step, displacement, step_velocity, sa
     implicit solvers' trials (:func:`fixed_load_path_step` computes them in
     the loop).
     """
-    fixed_load_table(scalars, table, state, normal_load)
+    # settled_step_with(load_unchanged, ...) written out: numba copies an inlined
+    # function's whole expanded body at each level it is inlined through, and this level
+    # cost a quarter of the step's compilation.
+    if normal_load != scalars[CURRENT_LOAD]:
+        load_unchanged(scalars, table, state, normal_load)
+    elif scalars[TABLE_STALE] != 0.0:
+        refresh_shares(scalars, table)
     n = table.shape[1]
     return gms_step_scaled(given_decay, decay_row, scalars, table, state[:n], state[n:2 * n],
                            step, displacement, step_velocity, sample_velocity,
@@ -632,9 +629,16 @@ def fixed_load_path_step(scalars, table, state, step, displacement, step_velocit
     A prescribed path steps each sample once, so the rows :func:`decay_row`
     keeps for the solvers' trials save nothing there; the GMS model's own
     :func:`~polind.kernels.elements.computed_decay` gives the same factors,
-    to the bit, without the row's pass and its checks.
+    to the bit, without the row's pass and its checks.  The runners of a
+    path call it only with the arrays of a fixed-load kernel, fresh from
+    ``kernel_arrays`` at the table's load, and that load: a table that is
+    stale or at another load (a caller that broke that promise) gives a NaN
+    force and no step, instead of :func:`fixed_load_step`'s upkeep
+    (:func:`load_unchanged`, :func:`refresh_shares`), whose loops cost a cold
+    process a third of a second of compilation.
     """
-    fixed_load_table(scalars, table, state, normal_load)
+    if normal_load != scalars[CURRENT_LOAD] or scalars[TABLE_STALE] != 0.0:
+        return math.nan
     n = table.shape[1]
     return gms_step_scaled(computed_decay, inverse_row, scalars, table, state[:n],
                            state[n:2 * n], step, displacement, step_velocity, sample_velocity,
