@@ -339,7 +339,7 @@ def test_a_state_tabled_at_another_load_takes_the_full_step():
 
 def test_the_fixed_load_step_refuses_another_load():
     # A caller that broke the fixed-load promise gets a non-finite force, never a wrong one.
-    from polind.kernels.pol_ind import fixed_load_step
+    from polind.kernels.pol_ind_fixed import fixed_load_step
 
     model = pol_ind()
     kernel = model.step_kernel(model.initial_state(), fixed_load=True)
@@ -356,8 +356,8 @@ def test_the_path_step_takes_only_a_fresh_table_at_its_load(plastic):
     # A fixed-load kernel's arrays are fresh at the table's load, the one promise the path
     # step (no upkeep of its own) relies on; a table that is stale or at another load gets
     # a NaN force and no step, and the step agrees with the solvers' step to the bit.
-    from polind.kernels.pol_ind import (CURRENT_LOAD, TABLE_STALE, fixed_load_path_step,
-                                        fixed_load_step)
+    from polind.kernels.pol_ind import CURRENT_LOAD, TABLE_STALE
+    from polind.kernels.pol_ind_fixed import fixed_load_path_step, fixed_load_step
 
     model = pol_ind(**({"materials.hardness": 2e9} if plastic else {}))
     kernel = model.step_kernel(model.initial_state(), fixed_load=True)

@@ -464,7 +464,7 @@ MODULES = (
                           "polind.kernels.elements", "polind.kernels.greenwood",
                           "polind.kernels.separation", "polind.kernels.plastic",
                           "polind.kernels.plastic_separation", "polind.kernels.pol_ind",
-                          "polind.kernels.pol_ind_plastic",
+                          "polind.kernels.pol_ind_plastic", "polind.kernels.pol_ind_fixed",
                           "polind.kernels.special", "polind.kernels.fastexp",
                           "polind.kernels.cache")),
 )

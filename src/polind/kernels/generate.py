@@ -48,7 +48,7 @@ MODELS = {
     "pol_ind": ("polind.kernels.pol_ind", {
         "step": "pol_ind_step", "force": "pol_ind_force", "tangent": "pol_ind_tangent",
         "settled": "settled_step", "trial": "pol_ind_trial_step"}),
-    "pol_ind_fixed_load": ("polind.kernels.pol_ind", {
+    "pol_ind_fixed_load": ("polind.kernels.pol_ind_fixed", {
         "step": "fixed_load_step", "force": "fixed_load_force", "tangent": "pol_ind_tangent",
         "trial": "pol_ind_trial_step", "path_step": "fixed_load_path_step"}),
     "pol_ind_plastic": ("polind.kernels.pol_ind_plastic", {

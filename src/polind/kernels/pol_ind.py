@@ -64,10 +64,10 @@ import math
 from polind.kernels import jit
 from polind.kernels.elements import (ATTRACTION, ELEMENT_CAPACITY, ELEMENT_INVERSE,
                                      ELEMENT_STIFFNESS, STRIBECK_EXPONENT, STRIBECK_SHAPE,
-                                     STRIBECK_VELOCITY, VISCOUS, computed_decay, decay_factors,
+                                     STRIBECK_VELOCITY, VISCOUS, decay_factors,
                                      element_properties, element_sum, given_decay,
                                      gms_decayed_element, gms_force, gms_step_scaled,
-                                     gms_trial_scaled, inverse_row, stuck_stiffness)
+                                     gms_trial_scaled, stuck_stiffness)
 from polind.kernels.fastexp import decay_exp
 from polind.kernels.separation import (DIRECT, RELATIVE_TOLERANCE, direct_lower_bound,
                                        newton_iteration, predicted_start,
@@ -578,82 +578,3 @@ def pol_ind_trial_step(scalars, table, state, out, keep, step, displacement, ste
                             out, keep, step, displacement, step_velocity, sample_velocity,
                             scalars[KINETIC_COEFFICIENT] * normal_load,
                             scalars[STATIC_COEFFICIENT] * normal_load)
-
-
-@jit(inline="always")
-def load_unchanged(scalars, table, state, normal_load):
-    """The set-load function of a run that never leaves the table's load: nothing to bring.
-
-    Reached only if a caller broke that promise (a load other than
-    ``scalars[CURRENT_LOAD]``): the stiffness row becomes NaN, so the run
-    reports a non-finite force instead of stepping with the wrong table.
-    """
-    stiffness = table[ELEMENT_STIFFNESS]
-    for j in range(stiffness.shape[0]):
-        stiffness[j] = math.nan
-
-
-@jit
-def fixed_load_step(scalars, table, state, step, displacement, step_velocity, sample_velocity,
-                    normal_load):
-    """The step of a run at the table's own constant load (:ref:`guide-pol-ind-law`).
-
-    :func:`settled_step` without a load path (:func:`load_step`,
-    :func:`set_load` neither needed nor compiled: less than half the
-    compilation of a cold process); stale weights (:data:`TABLE_STALE`) are
-    still brought up to date.  :func:`pol_ind_step`'s forces at that load,
-    bit for bit, for the Hertzian and the elastic-plastic arrays alike.  The
-    decay factors come from :func:`decay_row`, which keeps them for the
-    implicit solvers' trials (:func:`fixed_load_path_step` computes them in
-    the loop).
-    """
-    # settled_step_with(load_unchanged, ...) written out: numba copies an inlined
-    # function's whole expanded body at each level it is inlined through, and this level
-    # cost a quarter of the step's compilation.
-    if normal_load != scalars[CURRENT_LOAD]:
-        load_unchanged(scalars, table, state, normal_load)
-    elif scalars[TABLE_STALE] != 0.0:
-        refresh_shares(scalars, table)
-    n = table.shape[1]
-    return gms_step_scaled(given_decay, decay_row, scalars, table, state[:n], state[n:2 * n],
-                           step, displacement, step_velocity, sample_velocity,
-                           scalars[KINETIC_COEFFICIENT] * normal_load,
-                           scalars[STATIC_COEFFICIENT] * normal_load)
-
-
-@jit
-def fixed_load_path_step(scalars, table, state, step, displacement, step_velocity,
-                         sample_velocity, normal_load):
-    """:func:`fixed_load_step` for a prescribed path: each decay factor computed in the loop.
-
-    A prescribed path steps each sample once, so the rows :func:`decay_row`
-    keeps for the solvers' trials save nothing there; the GMS model's own
-    :func:`~polind.kernels.elements.computed_decay` gives the same factors,
-    to the bit, without the row's pass and its checks.  The runners of a
-    path call it only with the arrays of a fixed-load kernel, fresh from
-    ``kernel_arrays`` at the table's load, and that load: a table that is
-    stale or at another load (a caller that broke that promise) gives a NaN
-    force and no step, instead of :func:`fixed_load_step`'s upkeep
-    (:func:`load_unchanged`, :func:`refresh_shares`), whose loops cost a cold
-    process a third of a second of compilation.
-    """
-    if normal_load != scalars[CURRENT_LOAD] or scalars[TABLE_STALE] != 0.0:
-        return math.nan
-    n = table.shape[1]
-    return gms_step_scaled(computed_decay, inverse_row, scalars, table, state[:n],
-                           state[n:2 * n], step, displacement, step_velocity, sample_velocity,
-                           scalars[KINETIC_COEFFICIENT] * normal_load,
-                           scalars[STATIC_COEFFICIENT] * normal_load)
-
-
-@jit
-def fixed_load_force(scalars, table, state, sample_velocity, normal_load):
-    """``pol_ind_force`` of a run at the table's own constant load (see :func:`fixed_load_step`).
-
-    ``polind.kernels.elements.gms_force`` written out, not called: a fixed-load
-    run compiles no other function that calls it, and its own compilation cost a
-    quarter of a second.
-    """
-    if normal_load != scalars[CURRENT_LOAD]:
-        load_unchanged(scalars, table, state, normal_load)
-    return element_sum(state[:table.shape[1]]) + scalars[VISCOUS] * sample_velocity

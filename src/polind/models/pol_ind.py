@@ -489,15 +489,15 @@ class PolInd(FrictionModel):
     def fixed_load_step_functions(self, state):
         """The step of a run that stays at the load its element table was built for.
 
-        The GMS law of the table (:func:`polind.kernels.pol_ind.fixed_load_step`),
+        The GMS law of the table (:mod:`polind.kernels.pol_ind_fixed`),
         without the separation solver and the table's update at a new load, for
         the Hertzian and the elastic-plastic contact alike; None when the
         state's table was built at another load (the first step must bring it).
         """
         if float(state.variables["table_load"][0]) != float(self.constant_load):
             return None
-        from polind.kernels import pol_ind
-        return StepFunctions(pol_ind.fixed_load_step, pol_ind.fixed_load_force,
+        from polind.kernels import pol_ind, pol_ind_fixed
+        return StepFunctions(pol_ind_fixed.fixed_load_step, pol_ind_fixed.fixed_load_force,
                              pol_ind.pol_ind_tangent, runners="pol_ind_fixed_load")
 
     def kernel_arrays(self, state):

@@ -1,4 +1,4 @@
-"""The runners of pol_ind_fixed_load (polind.kernels.pol_ind), generated from polind.kernels.template.
+"""The runners of pol_ind_fixed_load (polind.kernels.pol_ind_fixed), generated from polind.kernels.template.
 
 Do not edit: ``python -m polind.kernels.generate`` writes this file again.
 """
@@ -6,12 +6,12 @@ Do not edit: ``python -m polind.kernels.generate`` writes this file again.
 from polind.kernels import jit
 from polind.kernels.contract import no_block as model_block
 from polind.kernels.contract import no_blocks as model_blocks
-from polind.kernels.pol_ind import pol_ind_trial_step as model_trial
-from polind.kernels.pol_ind import fixed_load_step as model_step
-from polind.kernels.pol_ind import fixed_load_force as model_force
-from polind.kernels.pol_ind import pol_ind_tangent as model_tangent
-from polind.kernels.pol_ind import fixed_load_step as model_settled
-from polind.kernels.pol_ind import fixed_load_path_step as model_path_step
+from polind.kernels.pol_ind_fixed import pol_ind_trial_step as model_trial
+from polind.kernels.pol_ind_fixed import fixed_load_step as model_step
+from polind.kernels.pol_ind_fixed import fixed_load_force as model_force
+from polind.kernels.pol_ind_fixed import pol_ind_tangent as model_tangent
+from polind.kernels.pol_ind_fixed import fixed_load_step as model_settled
+from polind.kernels.pol_ind_fixed import fixed_load_path_step as model_path_step
 from polind.kernels.buffer import body_sample, stepper_sample  # noqa: E402
 from polind.kernels.contract import (BLOCKS_STOPPED, VALID, no_blocks, run_motion,  # noqa: E402
                                      run_steps)
