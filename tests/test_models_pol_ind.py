@@ -352,32 +352,47 @@ def test_the_fixed_load_step_refuses_another_load():
 
 
 @pytest.mark.parametrize("plastic", [False, True], ids=["hertz", "plastic"])
-def test_the_path_step_takes_only_a_fresh_table_at_its_load(plastic):
-    # A fixed-load kernel's arrays are fresh at the table's load, the one promise the path
-    # step (no upkeep of its own) relies on; a table that is stale or at another load gets
-    # a NaN force and no step, and the step agrees with the solvers' step to the bit.
+def test_the_fixed_load_functions_take_only_a_fresh_table_at_its_load(plastic):
+    # A fixed-load kernel's arrays are fresh at the table's load: the one promise its
+    # functions (no upkeep of the table) rely on. A table that is stale or at another load
+    # gets NaN and no step; kept, the path step, the solvers' step and their trial agree
+    # to the bit.
     from polind.kernels.pol_ind import CURRENT_LOAD, TABLE_STALE
-    from polind.kernels.pol_ind_fixed import fixed_load_path_step, fixed_load_step
+    from polind.kernels.pol_ind_fixed import (fixed_load_force, fixed_load_path_step,
+                                              fixed_load_step, fixed_load_trial_step)
 
     model = pol_ind(**({"materials.hardness": 2e9} if plastic else {}))
     kernel = model.step_kernel(model.initial_state(), fixed_load=True)
     assert kernel.scalars[CURRENT_LOAD] == kernel.normal_load == 100.0
     assert kernel.scalars[TABLE_STALE] == 0.0
-    assert kernel.runners.motion_samples is not None
+    assert kernel.runners.model_trial is fixed_load_trial_step
     arguments = (1e-3, 1e-8, 1e-5, 1e-5)
     for load, stale in ((90.0, 0.0), (100.0, 1.0)):
-        scalars, state = kernel.scalars.copy(), kernel.state.copy()
+        scalars, table, state = kernel.scalars.copy(), kernel.table.copy(), kernel.state.copy()
         scalars[TABLE_STALE] = stale
-        assert math.isnan(fixed_load_path_step(scalars, kernel.table, state, *arguments, load))
+        for step in (fixed_load_path_step, fixed_load_step):
+            assert math.isnan(step(scalars, table, state, *arguments, load))
+        assert math.isnan(fixed_load_force(scalars, table, state, 1e-5, load))
+        assert fixed_load_trial_step(scalars, table, state, np.empty(state.size), True,
+                                     *arguments, load)[2] == -1
         np.testing.assert_array_equal(state, kernel.state)
-    a = model.step_kernel(model.initial_state(), fixed_load=True)
-    b = model.step_kernel(model.initial_state(), fixed_load=True)
+        np.testing.assert_array_equal(table, kernel.table)
+    a, b, c = (model.step_kernel(model.initial_state(), fixed_load=True) for _ in range(3))
+    out = np.empty(c.state.size)
+    slipped = False
     for k in range(1, 200):
         w = 2e-3 * math.cos(k / 15.0)
         step = (1e-3, 1e-3 * w, w, w, 100.0)
-        assert fixed_load_path_step(a.scalars, a.table, a.state, *step) == \
-            fixed_load_step(b.scalars, b.table, b.state, *step)
+        force = fixed_load_step(b.scalars, b.table, b.state, *step)
+        assert fixed_load_path_step(a.scalars, a.table, a.state, *step) == force
+        trial, _, written = fixed_load_trial_step(c.scalars, c.table, c.state, out, True, *step)
+        assert trial == pytest.approx(force, rel=1e-14)      # its own sum: to rounding
+        c.state[:written] = out[:written]
+        n = b.table.shape[1]
+        slipped |= bool(np.any(b.state[n:2 * n] != 0.0))
+    assert slipped                  # the decay factors were used
     np.testing.assert_array_equal(a.state, b.state)
+    np.testing.assert_array_equal(c.state, b.state)
 
 
 @pytest.mark.parametrize("varying", [False, True])

@@ -50,7 +50,7 @@ MODELS = {
         "settled": "settled_step", "trial": "pol_ind_trial_step"}),
     "pol_ind_fixed_load": ("polind.kernels.pol_ind_fixed", {
         "step": "fixed_load_step", "force": "fixed_load_force", "tangent": "pol_ind_tangent",
-        "trial": "pol_ind_trial_step", "path_step": "fixed_load_path_step"}),
+        "trial": "fixed_load_trial_step", "path_step": "fixed_load_path_step"}),
     "pol_ind_plastic": ("polind.kernels.pol_ind_plastic", {
         "step": "plastic_step", "force": "plastic_force", "tangent": "pol_ind_tangent",
         "settled": "plastic_settled_step", "trial": "pol_ind_trial_step"}),

@@ -566,8 +566,9 @@ def pol_ind_trial_step(scalars, table, state, out, keep, step, displacement, ste
     (the writes, to the table and its decay factors (:func:`decay_row`), are
     the step's own).  At another load
     ``(NaN, NaN, -1)``: the caller steps a copy, as without a trial.
-    Serves the Hertzian, the fixed-load and the elastic-plastic steps alike
-    (the same arrays at the table's load).
+    Serves the Hertzian and the elastic-plastic steps alike (the same
+    arrays at the table's load); a fixed-load run has its own, without the
+    upkeep (:func:`polind.kernels.pol_ind_fixed.fixed_load_trial_step`).
     """
     if normal_load != scalars[CURRENT_LOAD]:
         return math.nan, math.nan, -1

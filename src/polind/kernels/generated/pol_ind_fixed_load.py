@@ -6,7 +6,7 @@ Do not edit: ``python -m polind.kernels.generate`` writes this file again.
 from polind.kernels import jit
 from polind.kernels.contract import no_block as model_block
 from polind.kernels.contract import no_blocks as model_blocks
-from polind.kernels.pol_ind_fixed import pol_ind_trial_step as model_trial
+from polind.kernels.pol_ind_fixed import fixed_load_trial_step as model_trial
 from polind.kernels.pol_ind_fixed import fixed_load_step as model_step
 from polind.kernels.pol_ind_fixed import fixed_load_force as model_force
 from polind.kernels.pol_ind_fixed import pol_ind_tangent as model_tangent
