@@ -60,10 +60,6 @@ OVERFLOW = 3
 #: Code of :func:`run_motion`: a sample time that is not finite or not after its
 #: predecessor (the caller names which, as :func:`check_times` would).
 BAD_TIME = 4
-#: Code of the runners' ``motion``: the model's blocks stopped at ``index`` (a block with
-#: a bad sample, or a motion they do not take); the samples from ``index`` on run one a
-#: pass (:func:`run_motion`), which finds and names the bad sample.
-BLOCKS_STOPPED = 5
 
 
 @jit(inline="always")
@@ -253,17 +249,15 @@ def block_views(source_t, source_motion, t, motion, velocity, out_force, a, b):
             out_force[a:b])
 
 
-@jit
 def no_blocks(scalars, by_velocity):
     """A model without a blocked motion path (:mod:`polind.kernels.template`): never."""
     return False
 
 
-@jit
 def no_block(scalars, table, state, source_t, source_motion, t, motion, velocity, out_force, a,
              hi):
-    """The block of a model without one: never called (:func:`no_blocks` is false)."""
-    return -1
+    """The blocked motion of a model without one: never called (:func:`no_blocks` is false)."""
+    raise AssertionError("no_block is never called: no_blocks is false")
 
 
 @jit(inline="always")

@@ -374,26 +374,26 @@ def maxwell_slip_trial_step(scalars, table, state, out, keep, step, displacement
 MOTION_BLOCK = 256
 
 
-@jit
 def maxwell_slip_blocks(scalars, by_velocity):
-    """Whether a motion runs in Maxwell-slip's blocks: along positions."""
+    """Whether a motion runs in Maxwell-slip's blocks: along positions (plain Python)."""
     return not by_velocity
 
 
 @jit
 def maxwell_slip_block(scalars, table, state, source_t, source_motion, t, motion, velocity,
                        out_force, a, hi):
-    """The samples ``a ..`` of a motion in one block, two samples a pass: the sample after it, or -1.
+    """The samples ``a .. hi - 1`` of a motion in blocks, two samples a pass: ``hi``, or ``-a``.
 
-    The block of :func:`polind.kernels.template.motion` (along positions).
-    The block's :data:`MOTION_BLOCK` samples are first copied, checked and
-    cut into steps in a pass with no dependence between samples; the
-    elements are then advanced two samples per pass over them
+    The blocked motion of Maxwell-slip (:mod:`polind.kernels.template`, along
+    positions).  Each block's :data:`MOTION_BLOCK` samples are first copied,
+    checked and cut into steps in a pass with no dependence between samples;
+    the elements are then advanced two samples per pass over them
     (:func:`maxwell_slip_element` twice, each sample's sum kept), so each
     element's stiffness, capacity and force are loaded once for two steps.
     The forces are those of one sample at a time, summed in another order
-    (within a few ulp).  A block with a bad sample returns -1 with the state
-    untouched.
+    (within a few ulp).  A block with a bad sample stops the run with the
+    state as the blocks before it left it, and returns minus its first
+    sample (``a >= 1``).
     """
     stiffness = table[ELEMENT_STIFFNESS]
     capacity = table[ELEMENT_CAPACITY]
@@ -401,42 +401,44 @@ def maxwell_slip_block(scalars, table, state, source_t, source_motion, t, motion
     n = stiffness.shape[0]
     element_force = state[:n]
     displacement = np.empty(MOTION_BLOCK + 1)
-    b = min(a + MOTION_BLOCK, hi)
-    m = b - a
-    t_in, x_in, t_out, x_out, w_out, f_out = block_views(source_t, source_motion, t, motion,
-                                                          velocity, out_force, a, b)
-    bad = 0
-    for i in range(m):
-        h, dx, w, ok = cut_sample(t_in, x_in, t_out, x_out, i)
-        w_out[i] = w
-        displacement[i] = dx
-        bad += 0 if ok else 1
-    if bad != 0:
-        return -1
-    if m % 2 == 1:
-        # An odd last sample is paired with a step of zero (which moves no element),
-        # so every sample's force comes from the one loop below, whichever place it
-        # has in a pair: a run cut into chunks gives the same bits as one run.
-        displacement[m] = 0.0
-    i = 0
-    while i < m:
-        first_step = displacement[i]
-        second_step = displacement[i + 1]
-        first_total = 0.0
-        second_total = 0.0
-        for j in range(n):
-            limit = capacity[j]
-            k = stiffness[j]
-            force = maxwell_slip_element(element_force[j], k, limit, first_step)
-            first_total += force
-            force = maxwell_slip_element(force, k, limit, second_step)
-            second_total += force
-            element_force[j] = force
-        f_out[i] = first_total + viscous * w_out[i]
-        if i + 1 < m:
-            f_out[i + 1] = second_total + viscous * w_out[i + 1]
-        i += 2
-    return b
+    while a < hi:
+        b = min(a + MOTION_BLOCK, hi)
+        m = b - a
+        t_in, x_in, t_out, x_out, w_out, f_out = block_views(source_t, source_motion, t, motion,
+                                                              velocity, out_force, a, b)
+        bad = 0
+        for i in range(m):
+            h, dx, w, ok = cut_sample(t_in, x_in, t_out, x_out, i)
+            w_out[i] = w
+            displacement[i] = dx
+            bad += 0 if ok else 1
+        if bad != 0:
+            return -a
+        if m % 2 == 1:
+            # An odd last sample is paired with a step of zero (which moves no element),
+            # so every sample's force comes from the one loop below, whichever place it
+            # has in a pair: a run cut into chunks gives the same bits as one run.
+            displacement[m] = 0.0
+        i = 0
+        while i < m:
+            first_step = displacement[i]
+            second_step = displacement[i + 1]
+            first_total = 0.0
+            second_total = 0.0
+            for j in range(n):
+                limit = capacity[j]
+                k = stiffness[j]
+                force = maxwell_slip_element(element_force[j], k, limit, first_step)
+                first_total += force
+                force = maxwell_slip_element(force, k, limit, second_step)
+                second_total += force
+                element_force[j] = force
+            f_out[i] = first_total + viscous * w_out[i]
+            if i + 1 < m:
+                f_out[i + 1] = second_total + viscous * w_out[i + 1]
+            i += 2
+        a = b
+    return hi
 
 
 @jit(inline="always")

@@ -158,9 +158,11 @@ def lugre_tangent(scalars, table, state, step):
 LUGRE_BLOCK = 512
 
 
-@jit(inline="always")
 def lugre_blocks(scalars, by_velocity):
-    """Whether a motion runs in LuGre's blocks: positions, a Stribeck exponent of 1 or 2."""
+    """Whether a motion runs in LuGre's blocks: positions, a Stribeck exponent of 1 or 2.
+
+    Plain Python: the runner asks it before it calls :func:`lugre_block`.
+    """
     exponent = scalars[LUGRE_STRIBECK_EXPONENT]
     return not by_velocity and (exponent == 2.0 or exponent == 1.0)
 
@@ -168,25 +170,21 @@ def lugre_blocks(scalars, by_velocity):
 @jit
 def lugre_block(scalars, table, state, source_t, source_motion, t, motion, velocity, out_force,
                 a, hi):
-    """The samples ``a ..`` of a motion in one block of two passes: the sample after it, or -1.
+    """The samples ``a .. hi - 1`` of a motion in blocks of two passes: ``hi``, or ``-a`` of a bad block.
 
-    The block of :func:`polind.kernels.template.motion` (where
+    The blocked motion of LuGre (:mod:`polind.kernels.template`, where
     :func:`lugre_blocks`).  The exact step's two exponentials (the Stribeck
     curve ``g(w)`` and the decay ``exp(-r h)``) depend on the path only, not
-    on the state ``z``: a first pass with no dependence between samples
-    copies and checks the samples and computes the step velocities, ``z_ss``,
-    ``r`` and the decays (:func:`lugre_relaxation`, with the vectorisable
+    on the state ``z``: for each block of :data:`LUGRE_BLOCK` samples, a
+    first pass with no dependence between samples copies and checks the
+    samples and computes the step velocities, ``z_ss``, ``r`` and the decays
+    (:func:`lugre_relaxation`, with the vectorisable
     :func:`~polind.kernels.fastexp.decay_exp`), which the compiler turns into
     SIMD code; the second runs the recurrence ``z <- z_ss + (z - z_ss)
     decay`` and the output (:func:`lugre_output`) alone.  A block with a bad
-    sample returns -1 with the state untouched.
+    sample stops the run with the state as the blocks before it left it, and
+    returns minus its first sample (``a >= 1``).
     """
-    b = a + LUGRE_BLOCK
-    if b > hi:      # min(a + LUGRE_BLOCK, hi), without compiling numba's min of two ints
-        b = hi
-    m = b - a
-    t_in, x_in, t_out, x_out, w_out, f_out = block_views(source_t, source_motion, t, motion,
-                                                          velocity, out_force, a, b)
     stiffness = scalars[LUGRE_STIFFNESS]
     damping = scalars[LUGRE_DAMPING]
     viscous = scalars[LUGRE_VISCOUS]
@@ -195,28 +193,36 @@ def lugre_block(scalars, table, state, source_t, source_motion, t, motion, veloc
     stribeck_velocity = scalars[LUGRE_STRIBECK_VELOCITY]
     shape = scalars[LUGRE_STRIBECK_SHAPE]
     squared = scalars[LUGRE_STRIBECK_EXPONENT] == 2.0
-    steady = np.empty(m)
-    decay = np.empty(m)
-    rate = np.empty(m)
-    bad = 0
-    for i in range(m):
-        h, dx, w, ok = cut_sample(t_in, x_in, t_out, x_out, i)
-        w_out[i] = w
-        bad += 0 if ok else 1
-        g = stribeck_level(decay_exp, power_ratio(w, stribeck_velocity, squared), coulomb,
-                           static, shape)
-        steady[i], rate[i] = lugre_relaxation(stiffness, w, g)
-        decay[i] = decay_exp(-rate[i] * h)
-    if bad != 0:
-        return -1
-    z = state[0]
-    for i in range(m):
-        w = w_out[i]
-        if w != 0.0:
-            z = steady[i] + (z - steady[i]) * decay[i]
-        f_out[i] = lugre_output(z, w, rate[i], stiffness, damping, viscous)
-    state[0] = z
-    return b
+    steady = np.empty(LUGRE_BLOCK)
+    decay = np.empty(LUGRE_BLOCK)
+    rate = np.empty(LUGRE_BLOCK)
+    while a < hi:
+        b = a + LUGRE_BLOCK
+        if b > hi:      # min(a + LUGRE_BLOCK, hi), without compiling numba's min of two ints
+            b = hi
+        m = b - a
+        t_in, x_in, t_out, x_out, w_out, f_out = block_views(source_t, source_motion, t, motion,
+                                                              velocity, out_force, a, b)
+        bad = 0
+        for i in range(m):
+            h, dx, w, ok = cut_sample(t_in, x_in, t_out, x_out, i)
+            w_out[i] = w
+            bad += 0 if ok else 1
+            g = stribeck_level(decay_exp, power_ratio(w, stribeck_velocity, squared), coulomb,
+                               static, shape)
+            steady[i], rate[i] = lugre_relaxation(stiffness, w, g)
+            decay[i] = decay_exp(-rate[i] * h)
+        if bad != 0:
+            return -a
+        z = state[0]
+        for i in range(m):
+            w = w_out[i]
+            if w != 0.0:
+                z = steady[i] + (z - steady[i]) * decay[i]
+            f_out[i] = lugre_output(z, w, rate[i], stiffness, damping, viscous)
+        state[0] = z
+        a = b
+    return hi
 
 
 @jit(inline="always")

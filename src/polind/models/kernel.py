@@ -155,12 +155,13 @@ class StepKernel:
         may be the same arrays) as it checks and runs them.  With ``first``,
         sample ``lo`` starts the run
         (:func:`polind.kernels.contract.first_motion_sample`); the runners'
-        ``motion`` takes the rest, and where it stops (a model's blocks that
-        met a bad sample, or a motion they do not take) its
-        ``motion_samples``.  Not for a mounted model (a series spring or a
-        load scaling), which runs from step arrays (:meth:`run`).
+        ``model_block`` takes the rest where the model has blocks and they take
+        the motion (``model_blocks``), and their ``motion_samples`` where not,
+        or from the last good sample before a block that met a bad one.  Not
+        for a mounted model (a series spring or a load scaling), which runs
+        from step arrays (:meth:`run`).
         """
-        from polind.kernels.contract import BLOCKS_STOPPED, VALID, first_motion_sample
+        from polind.kernels.contract import VALID, first_motion_sample
 
         loads = NO_LOADS if loads is None else loads
         if first:
@@ -171,12 +172,16 @@ class StepKernel:
                                               hi, out_force)
             if code != VALID:
                 return code, index
-        arguments = (self.scalars, self.table, self.state, source_t, source_motion, t, motion,
-                     by_velocity, position, velocity, loads, self.normal_load)
-        code, index = self.runners.motion(*arguments, lo, hi, out_force)
-        if code == BLOCKS_STOPPED:
-            code, index = self.runners.motion_samples(*arguments, index, hi, out_force)
-        return code, index
+        runners = self.runners
+        if runners.model_blocks(self.scalars, by_velocity):
+            stop = runners.model_block(self.scalars, self.table, self.state, source_t,
+                                       source_motion, t, motion, velocity, out_force, lo + 1, hi)
+            if stop == hi:
+                return VALID, -1
+            lo = -stop - 1          # the last good sample, before the bad block
+        return runners.motion_samples(self.scalars, self.table, self.state, source_t,
+                                      source_motion, t, motion, by_velocity, position, velocity,
+                                      loads, self.normal_load, lo, hi, out_force)
 
     def integrate_system(self, *args):
         """The runners' ``integrate`` (``polind.kernels.dynamics.integrate_system_with``).

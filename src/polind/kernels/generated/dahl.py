@@ -13,8 +13,7 @@ from polind.kernels.single import dahl_tangent as model_tangent
 from polind.kernels.single import dahl_step as model_settled
 from polind.kernels.single import dahl_step as model_path_step
 from polind.kernels.buffer import body_sample, stepper_sample  # noqa: E402
-from polind.kernels.contract import (BLOCKS_STOPPED, VALID, no_blocks, run_motion,  # noqa: E402
-                                     run_steps)
+from polind.kernels.contract import run_motion, run_steps  # noqa: E402
 from polind.kernels.dynamics import (advance_body_with, bare_commit, bare_trial,  # noqa: E402
                                      body_advance_with, body_batch_with,
                                      body_step as body_step_with, integrate_system_with)
@@ -37,39 +36,6 @@ def motion_samples(scalars, table, state, source_t, source_motion, t, motion, by
     return run_motion(model_path_step, scalars, table, state, source_t, source_motion, t,
                       motion, by_velocity, position, velocity, loads, constant_load, lo, hi,
                       out_force)
-
-
-@jit
-def motion(scalars, table, state, source_t, source_motion, t, motion, by_velocity, position,
-           velocity, loads, constant_load, lo, hi, out_force):
-    """The loop of :func:`polind.simulate` over samples ``lo + 1 ..``: ``(code, index)``.
-
-    Where ``model_blocks`` allows it (positions, the parameters its block
-    handles), the samples run in blocks of ``model_block``, which prepares a
-    block in a pass with no dependence between samples and returns the
-    sample it stopped at, or -1 for a block with a bad sample.  Returns
-    :data:`~polind.kernels.contract.VALID`, or
-    :data:`~polind.kernels.contract.BLOCKS_STOPPED` and the sample from
-    which :func:`motion_samples` is to run the rest (it finds and reports
-    the bad sample).  The two are compiled apart, so that a run whose blocks
-    take every sample compiles only this one.
-    """
-    if not model_blocks(scalars, by_velocity):
-        return BLOCKS_STOPPED, lo
-    a = lo + 1
-    while a < hi:
-        b = model_block(scalars, table, state, source_t, source_motion, t, motion, velocity,
-                        out_force, a, hi)
-        if b < 0:
-            return BLOCKS_STOPPED, a - 1
-        a = b
-    return VALID, -1
-
-
-# A model without blocks runs its motion one sample a pass: no second function to
-# compile, cache and load (model_blocks is then contract.no_blocks).
-if model_blocks is no_blocks:
-    motion = motion_samples  # noqa: F811
 
 
 # The one-sample runners of Stepper and Body take one buffer (polind.kernels.buffer) and a
