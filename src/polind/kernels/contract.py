@@ -90,12 +90,6 @@ def run_steps(step, force, scalars, table, state, step_length, displacement, ste
 
 
 @jit(fastmath=False)
-def finite(value):
-    """``math.isfinite`` compiled without fast-math (see :func:`motion_step`), for fast-math loops."""
-    return math.isfinite(value)
-
-
-@jit(fastmath=False)
 def motion_step(by_velocity, t0, t1, m0, m1, x0):
     """``(h, dx, w, x1, code)`` of the step from sample 0 to 1 of a prescribed motion (:func:`cut_path`).
 
