@@ -85,7 +85,8 @@ class StepKernel:
         See :mod:`polind.kernels.contract`.
     runners : module
         The model's runners (:mod:`polind.kernels.template`): ``path``,
-        ``motion``, ``integrate``, ``body``, ``body_step`` and the
+        ``motion_samples`` (and the model's ``model_blocks`` and
+        ``model_block``), ``integrate``, ``body``, ``body_step`` and the
         ``mounted_`` ones.
     scalars, table, state : ndarray
         The model's parameters and its state, laid out for its functions.
