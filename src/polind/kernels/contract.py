@@ -159,8 +159,8 @@ def first_motion_sample(force, scalars, table, state, source_t, source_motion, t
         else:
             sample_velocity = start_velocity
         velocity[lo] = sample_velocity
-    load = loads[lo] if loads.shape[0] > 0 else constant_load
-    out_force[lo] = force(scalars, table, state, sample_velocity, load)
+    out_force[lo] = force(scalars, table, state, sample_velocity,
+                          sample_load.py_func(loads, constant_load, lo))
     return VALID, -1
 
 
@@ -231,15 +231,19 @@ def cut_sample(t_in, x_in, t_out, x_out, i):
 
 
 @jit(inline="always")
-def block_views(source_t, source_motion, t, motion, velocity, out_force, a, b):
-    """Samples ``a .. b - 1`` of a blocked motion kernel as views indexed from 0.
+def block_views(source_t, source_motion, t, motion, velocity, out_force, a, hi, size):
+    """The block of up to ``size`` samples from ``a`` (before ``hi``), as views indexed from 0.
 
-    ``(t_in, x_in, t_out, x_out, w_out, f_out)``: the sources from the
-    sample before the block (:func:`cut_sample`), the copies, step
-    velocities and forces from its first sample.  Indexed from 0, the
-    compiler sees non-negative indices and vectorises the block's loops.
+    ``(b, t_in, x_in, t_out, x_out, w_out, f_out)``: ``b = min(a + size,
+    hi)``, the sample after the block; the sources from the sample before
+    the block (:func:`cut_sample`), the copies, step velocities and forces
+    from its first sample.  Indexed from 0, the compiler sees non-negative
+    indices and vectorises the block's loops.
     """
-    return (source_t[a - 1:b], source_motion[a - 1:b], t[a:b], motion[a:b], velocity[a:b],
+    b = a + size
+    if b > hi:      # min(a + size, hi), without compiling numba's min of two ints
+        b = hi
+    return (b, source_t[a - 1:b], source_motion[a - 1:b], t[a:b], motion[a:b], velocity[a:b],
             out_force[a:b])
 
 

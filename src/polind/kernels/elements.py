@@ -402,10 +402,9 @@ def maxwell_slip_block(scalars, table, state, source_t, source_motion, t, motion
     element_force = state[:n]
     displacement = np.empty(MOTION_BLOCK + 1)
     while a < hi:
-        b = min(a + MOTION_BLOCK, hi)
+        b, t_in, x_in, t_out, x_out, w_out, f_out = block_views(
+            source_t, source_motion, t, motion, velocity, out_force, a, hi, MOTION_BLOCK)
         m = b - a
-        t_in, x_in, t_out, x_out, w_out, f_out = block_views(source_t, source_motion, t, motion,
-                                                              velocity, out_force, a, b)
         bad = 0
         for i in range(m):
             h, dx, w, ok = cut_sample(t_in, x_in, t_out, x_out, i)

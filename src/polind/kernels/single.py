@@ -197,12 +197,9 @@ def lugre_block(scalars, table, state, source_t, source_motion, t, motion, veloc
     decay = np.empty(LUGRE_BLOCK)
     rate = np.empty(LUGRE_BLOCK)
     while a < hi:
-        b = a + LUGRE_BLOCK
-        if b > hi:      # min(a + LUGRE_BLOCK, hi), without compiling numba's min of two ints
-            b = hi
+        b, t_in, x_in, t_out, x_out, w_out, f_out = block_views(
+            source_t, source_motion, t, motion, velocity, out_force, a, hi, LUGRE_BLOCK)
         m = b - a
-        t_in, x_in, t_out, x_out, w_out, f_out = block_views(source_t, source_motion, t, motion,
-                                                              velocity, out_force, a, b)
         bad = 0
         for i in range(m):
             h, dx, w, ok = cut_sample(t_in, x_in, t_out, x_out, i)
