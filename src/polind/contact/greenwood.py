@@ -51,6 +51,7 @@ from scipy import special
 
 from polind.errors import InputError, describe
 from polind.kernels.greenwood import gw_half_integer_pair, gw_half_integer_pairs
+from polind.kernels.interpreted import interpreted
 from polind.kernels.special import special_addresses
 
 __all__ = ["gw_integral", "half_integer_pair", "three_halves_inverse", "VALID_RANGE"]
@@ -71,9 +72,12 @@ def _addresses():
 def half_integer_pair(s: float) -> tuple[float, float]:
     """``(F_{1/2}(s), F_{3/2}(s))`` for one float ``s``, as Python floats.
 
-    The compiled :func:`polind.kernels.greenwood.gw_half_integer_pair`, the
-    one implementation of the formulas above, called on one float (a few
-    microseconds, nearly all of them in SciPy's Bessel functions).
+    :func:`polind.kernels.greenwood.gw_half_integer_pair`, the one
+    implementation of the formulas above, run by Python
+    (:func:`polind.kernels.interpreted.interpreted`: the compiled kernel's
+    results to the bit, about 10 microseconds a call, nearly all of them in
+    SciPy's Bessel functions), so that a process asking a few values of one
+    surface (a model built at one load) compiles none of it.
 
     Parameters
     ----------
@@ -86,7 +90,13 @@ def half_integer_pair(s: float) -> tuple[float, float]:
         ``F_{1/2}(s)`` and ``F_{3/2}(s)``; ``(0, 0)`` at ``+inf``,
         ``(inf, inf)`` at ``-inf``, NaN for NaN.
     """
-    return gw_half_integer_pair(float(s), _addresses())
+    return _python_pair()(float(s), _addresses())
+
+
+@lru_cache(maxsize=1)
+def _python_pair():
+    """:func:`~polind.kernels.greenwood.gw_half_integer_pair` run by Python."""
+    return interpreted(gw_half_integer_pair)
 
 
 def _upper_tail(s):
@@ -145,8 +155,8 @@ def gw_integral(m, s):
     elif order == 1.0:
         value = _first_moment(s_array)
     elif s_array.ndim == 0:
-        # One float: the scalar pair, which the separation solver compiles anyway (a
-        # process that asks one load of a surface need not compile the array loop too).
+        # One float: the scalar pair, run by Python (a process that asks one load of a
+        # surface compiles nothing for it).
         value = half_integer_pair(float(s_array))[0 if order == 0.5 else 1]
     else:
         # The compiled pair at every element (polind.kernels.greenwood).
@@ -159,9 +169,9 @@ def gw_integral(m, s):
 def _log_three_halves_table() -> tuple[np.ndarray, np.ndarray]:
     """``log F_{3/2}`` on a grid over a little more than :data:`VALID_RANGE`, increasing."""
     grid = np.linspace(VALID_RANGE[0] - 1.0, VALID_RANGE[1] + 1.0, 321)
-    # gw_integral(1.5, grid) point by point: the scalar pair is the one the separation
-    # solver compiles anyway, so a process that solves one separation (every Pol-Ind
-    # model's first run) does not compile the array loop as well; the same bits.
+    # gw_integral(1.5, grid) point by point with the scalar pair run by Python (about
+    # 3 ms), so that a process that solves one separation (every Pol-Ind model's first
+    # run) compiles neither pair; the same bits.
     values = np.array([half_integer_pair(float(s))[1] for s in grid])
     # Reversed so that the tabulated values increase, as np.interp needs.
     return np.log(values)[::-1].copy(), grid[::-1].copy()

@@ -64,6 +64,7 @@ from polind.contact.plasticity import plastic_kernel_arguments
 from polind.errors import InputError, describe
 from polind.kernels import plastic_separation as _plastic
 from polind.kernels import separation as _kernels
+from polind.kernels.interpreted import interpreted
 from polind.kernels.special import special_addresses
 
 __all__ = ["solve_separation", "solve_separation_series", "RELATIVE_TOLERANCE"]
@@ -235,10 +236,13 @@ def solve_separation(surface, normal_load, initial=None, *, full_output=False):
     lo, hi = _lower_bound(surface, load, arguments), surface.separation_range[1]
     start = _initial_guess(surface, load, lo, hi) if initial is None else _checked_initial(initial)
     # One kind's solver: newton_separation_counted's results, without compiling the other kind.
-    solver = (_kernels.statistical_newton_counted if surface.kind == "statistical"
+    # A statistical surface's is run by Python (its kernels compile without fastmath, so the
+    # results are the compiled solver's to the bit): one solve is not worth the 0.9 s its
+    # compilation costs a cold process.  The load and the bracket are checked above.
+    solver = (interpreted(_kernels.statistical_newton_counted) if surface.kind == "statistical"
               else _kernels.direct_newton_counted)
     d, _, _, evaluations = solver(load, start, lo, hi, *arguments)
-    return (d, evaluations) if full_output else d
+    return (float(d), int(evaluations)) if full_output else float(d)
 
 
 def solve_separation_series(surface, normal_load, initial=None, *, full_output=False):

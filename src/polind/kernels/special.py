@@ -33,6 +33,7 @@ from numba import types
 from numba.extending import get_cython_function_address, intrinsic
 
 from polind.kernels import jit
+from polind.kernels.interpreted import register_twin
 
 __all__ = ["kve", "ive", "special_addresses", "KVE", "IVE"]
 
@@ -159,3 +160,21 @@ def ive(order, x, addresses):
         ``ive(order, x)``, bit for bit as ``scipy.special.ive``.
     """
     return _call_double_double(addresses[IVE], order, x)
+
+
+def _python_kve(order, x, addresses):
+    """:func:`kve` run by Python (:mod:`polind.kernels.interpreted`): SciPy's ufunc, the same C code."""
+    from scipy.special import kve as scipy_kve
+
+    return float(scipy_kve(order, x))
+
+
+def _python_ive(order, x, addresses):
+    """:func:`ive` run by Python (:mod:`polind.kernels.interpreted`): SciPy's ufunc, the same C code."""
+    from scipy.special import ive as scipy_ive
+
+    return float(scipy_ive(order, x))
+
+
+register_twin(kve, _python_kve)
+register_twin(ive, _python_ive)

@@ -1,0 +1,90 @@
+"""A kernel run by Python: the same source, for a call too rare to be worth compiling.
+
+A process that calls a kernel once (a model built at one normal load solves
+its separation once) pays numba's compilation of the kernel and of every
+kernel it calls — for Pol-Ind's separation about 0.9 s on a cold cache, three
+times the work of a whole run at that load.  :func:`interpreted` gives the
+kernel's own Python function instead, with every kernel it calls replaced by
+its interpreted version in turn, so the call compiles nothing.
+
+The results are the compiled kernel's, to the bit, where the compiled
+arithmetic is IEEE's: for kernels compiled without ``fastmath`` (no
+reassociation; no fused multiply-add: :mod:`polind.kernels` enables no
+contraction), whose ``math`` calls reach the same C library as Python's.
+:func:`interpreted` refuses a kernel compiled with ``fastmath`` (a kernel
+inlined into its caller is compiled with its caller's options, so only the
+kernels compiled on their own are checked).  A kernel that calls machine
+code through an address (:mod:`polind.kernels.special`) has a Python twin
+registered with :func:`register_twin`, the same function called from Python.
+
+Python checks what numba does not: a division by zero or an integer
+conversion of NaN raises instead of giving ``inf`` or an undefined
+integer.  Interpret only kernels whose inputs are checked before (the
+kernels interpreted in polind say so where they are used).
+"""
+
+from __future__ import annotations
+
+import types
+
+from numba.core.dispatcher import Dispatcher
+
+__all__ = ["interpreted", "register_twin"]
+
+_TWINS: dict = {}
+
+
+def register_twin(kernel, function):
+    """Run ``function`` wherever :func:`interpreted` meets ``kernel`` (a kernel Python cannot run)."""
+    _TWINS[kernel] = function
+    _CACHE.pop(kernel, None)
+
+
+_CACHE: dict = {}
+
+
+def interpreted(kernel):
+    """``kernel``'s Python function, calling the interpreted versions of the kernels it calls.
+
+    Parameters
+    ----------
+    kernel : numba dispatcher
+        A kernel compiled without ``fastmath`` (see the module notes).
+
+    Returns
+    -------
+    function
+        The same source as a Python function; results to the bit.
+
+    Raises
+    ------
+    ValueError
+        If ``kernel``, or a kernel it calls that is not inlined, is
+        compiled with ``fastmath``.
+    """
+    return _interpreted(kernel, root=True)
+
+
+def _interpreted(kernel, root):
+    if kernel in _TWINS:
+        return _TWINS[kernel]
+    key = kernel
+    if key in _CACHE:
+        return _CACHE[key]
+    options = kernel.targetoptions
+    if (root or options.get("inline", "never") == "never") and options.get("fastmath"):
+        name = kernel.py_func.__qualname__
+        raise ValueError(f"kernel {name} is compiled with fastmath: Python would round it "
+                         f"differently, so it cannot be interpreted")
+    function = kernel.py_func
+    names = dict(function.__globals__)
+    for name in function.__code__.co_names:
+        value = names.get(name)
+        if isinstance(value, Dispatcher):
+            names[name] = _interpreted(value, root=False)
+    result = types.FunctionType(function.__code__, names, function.__name__,
+                                function.__defaults__, function.__closure__)
+    result.__doc__ = function.__doc__
+    result.__qualname__ = function.__qualname__
+    _CACHE[key] = result
+    return result
