@@ -259,6 +259,21 @@ def no_block(scalars, table, state, source_t, source_motion, t, motion, velocity
 
 
 @jit(inline="always")
+def no_load_change(scalars, table, state, sample_velocity, normal_load):
+    """What a model whose state does not follow the normal load does where it changes: nothing.
+
+    A mounted path (:func:`polind.kernels.series.run_mounted_with`) brings
+    the model's real state to a new load before the spring's trials, which
+    run on copies, with the model's ``load`` function: its ``force`` (the
+    default: Pol-Ind's restarts its element table there), or this one for
+    a model whose ``force`` changes nothing (every model of polind but
+    Pol-Ind along a varying load), so that the mounted path compiles no
+    ``force``.  Returns 0.0, never read.
+    """
+    return 0.0
+
+
+@jit(inline="always")
 def no_trial(scalars, table, state, out, keep, step, displacement, step_velocity,
              sample_velocity, normal_load):
     """The read-only trial of a model without one: ``(NaN, NaN, -1)``, never read.

@@ -24,39 +24,47 @@ TEMPLATE = KERNELS / "template.py"
 GENERATED = KERNELS / "generated"
 MARKER = "# --- template: every line below is copied into each generated module ---\n"
 
+#: ``load`` of a model whose state does not follow the normal load
+#: (:func:`polind.kernels.contract.no_load_change`).
+NO_LOAD_CHANGE = "no_load_change"
+
 #: Each runner module: the kernel module its functions come from, and each
 #: placeholder's function there (``settled`` and ``path_step`` default to
-#: ``step``; ``trial``, ``blocks`` and ``block`` to none).
+#: ``step``, ``load`` to ``force``; ``trial``, ``blocks`` and ``block`` to none).
 MODELS = {
     "memoryless": ("polind.kernels.static", {
         "step": "memoryless_step", "force": "memoryless_force",
-        "tangent": "memoryless_tangent"}),
+        "tangent": "memoryless_tangent", "load": NO_LOAD_CHANGE}),
     "dahl": ("polind.kernels.single", {
-        "step": "dahl_step", "force": "dahl_force", "tangent": "dahl_tangent"}),
+        "step": "dahl_step", "force": "dahl_force", "tangent": "dahl_tangent",
+        "load": NO_LOAD_CHANGE}),
     "lugre": ("polind.kernels.single", {
         "step": "lugre_step", "force": "lugre_force", "tangent": "lugre_tangent",
-        "blocks": "lugre_blocks", "block": "lugre_block"}),
+        "blocks": "lugre_blocks", "block": "lugre_block", "load": NO_LOAD_CHANGE}),
     "leuven": ("polind.kernels.single", {
-        "step": "leuven_step", "force": "leuven_force", "tangent": "leuven_tangent"}),
+        "step": "leuven_step", "force": "leuven_force", "tangent": "leuven_tangent",
+        "load": NO_LOAD_CHANGE}),
     "maxwell_slip": ("polind.kernels.elements", {
         "step": "maxwell_slip_step", "force": "maxwell_slip_force",
         "tangent": "maxwell_slip_tangent", "blocks": "maxwell_slip_blocks",
-        "block": "maxwell_slip_block", "trial": "maxwell_slip_trial_step"}),
+        "block": "maxwell_slip_block", "trial": "maxwell_slip_trial_step",
+        "load": NO_LOAD_CHANGE}),
     "gms": ("polind.kernels.elements", {
         "step": "gms_step", "force": "gms_force", "tangent": "gms_tangent",
-        "trial": "gms_trial_step"}),
+        "trial": "gms_trial_step", "load": NO_LOAD_CHANGE}),
     "pol_ind": ("polind.kernels.pol_ind", {
         "step": "pol_ind_step", "force": "pol_ind_force", "tangent": "pol_ind_tangent",
         "settled": "settled_step", "trial": "pol_ind_trial_step"}),
     "pol_ind_fixed_load": ("polind.kernels.pol_ind_fixed", {
         "step": "fixed_load_step", "force": "fixed_load_force", "tangent": "pol_ind_tangent",
-        "trial": "fixed_load_trial_step", "path_step": "fixed_load_path_step"}),
+        "trial": "fixed_load_trial_step", "path_step": "fixed_load_path_step",
+        "load": NO_LOAD_CHANGE}),
     "pol_ind_plastic": ("polind.kernels.pol_ind_plastic", {
         "step": "plastic_step", "force": "plastic_force", "tangent": "pol_ind_tangent",
         "settled": "plastic_settled_step", "trial": "pol_ind_trial_step"}),
 }
 
-_PLACEHOLDERS = ("step", "force", "tangent", "settled", "path_step")
+_PLACEHOLDERS = ("step", "force", "tangent", "settled", "path_step", "load")
 
 
 def template_body() -> str:
@@ -68,7 +76,8 @@ def template_body() -> str:
 def render(name: str) -> str:
     """The source of the runner module ``name`` (a key of :data:`MODELS`)."""
     module, functions = MODELS[name]
-    functions = {"settled": functions["step"], "path_step": functions["step"], **functions}
+    functions = {"settled": functions["step"], "path_step": functions["step"],
+                 "load": functions["force"], **functions}
     lines = [f'"""The runners of {name} ({module}), generated from polind.kernels.template.',
              "",
              "Do not edit: ``python -m polind.kernels.generate`` writes this file again.",
@@ -86,7 +95,9 @@ def render(name: str) -> str:
     else:
         lines.append("from polind.kernels.contract import no_trial as model_trial")
     for placeholder in _PLACEHOLDERS:
-        lines.append(f"from {module} import {functions[placeholder]} as model_{placeholder}")
+        source = ("polind.kernels.contract" if functions[placeholder] == NO_LOAD_CHANGE
+                  else module)
+        lines.append(f"from {source} import {functions[placeholder]} as model_{placeholder}")
     return "\n".join(lines) + "\n" + template_body()
 
 
@@ -128,7 +139,8 @@ def _compiled(step, force, tangent):
     namespace = {"__name__": "polind.kernels.template_for_" + getattr(step, "__name__", "model"),
                  "jit": functools.partial(jit, cache=False),
                  "model_step": step, "model_force": force, "model_tangent": tangent,
-                 "model_settled": step, "model_path_step": step, "model_blocks": no_blocks,
+                 "model_settled": step, "model_path_step": step, "model_load": force,
+                 "model_blocks": no_blocks,
                  "model_block": no_block,
                  "model_trial": no_trial}
     exec(compile(template_body(), str(TEMPLATE), "exec"), namespace)    # noqa: S102

@@ -164,21 +164,18 @@ def mounted_trial(mounted_step, tangent_function, memoryless, mount, scalars, ta
 
 
 @jit(inline="always")
-def run_mounted_with(mounted_step, force_function, mount, scalars, table, state, scratch,
+def run_mounted_with(mounted_step, load_function, mount, scalars, table, state, scratch,
                      step_length, displacement, step_velocity, sample_velocity, loads,
-                     constant_load, lo, hi, first, out_force):
-    """:func:`polind.kernels.contract.run_steps` for a mounted contact.
+                     constant_load, lo, hi, out_force):
+    """:func:`polind.kernels.contract.run_steps` for a mounted contact, samples ``lo + 1 .. hi - 1``.
 
-    ``mounted_step`` as in :func:`mounted_commit`; ``force_function`` is the
-    model's ``force``.
+    ``mounted_step`` as in :func:`mounted_commit`; ``load_function`` is the
+    model's ``load`` (its ``force``, or
+    :func:`polind.kernels.contract.no_load_change`).  Sample ``lo`` is
+    taken as done: the first sample of a run is Python's
+    (:func:`polind.kernels.mount.first_force`), so this loop compiles no
+    ``force`` of its own.
     """
-    if first:
-        load = sample_load(loads, constant_load, lo)
-        if mount[STIFFNESS] < math.inf:
-            out_force[lo] = mount[SPRING_FORCE]
-        else:
-            force = force_function(scalars, table, state, sample_velocity[lo], load)
-            out_force[lo] = scaled_force(mount, force, sample_velocity[lo], load)
     previous_load = sample_load(loads, constant_load, lo)
     for k in range(lo + 1, hi):
         load = sample_load(loads, constant_load, k)
@@ -186,7 +183,7 @@ def run_mounted_with(mounted_step, force_function, mount, scalars, table, state,
             # Bring the model to the new load on its real state first (a model
             # whose element table follows the load, Pol-Ind, clips and restarts
             # its elements there): the spring's trials run on copies.
-            force_function(scalars, table, state, sample_velocity[k - 1], load)
+            load_function(scalars, table, state, sample_velocity[k - 1], load)
             previous_load = load
         out_force[k] = mounted_commit(mounted_step, mount, scalars, table, state, scratch,
                                       step_length[k], displacement[k], step_velocity[k],
@@ -207,5 +204,5 @@ def mounted_sample(runners, mount, scalars, table, state, scratch, path, step, d
         sample_velocity
     path[4, 0], path[4, 1] = previous_load, normal_load
     runners.mounted_path(mount, scalars, table, state, scratch, path[0], path[1], path[2],
-                         path[3], path[4], normal_load, 0, 2, False, path[5])
+                         path[3], path[4], normal_load, 0, 2, path[5])
     return float(path[5, 1])

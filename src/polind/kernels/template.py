@@ -12,6 +12,9 @@ module's globals ``model_step``, ``model_force``, ``model_tangent``,
 ``model_settled`` (the step the body uses; Pol-Ind's skips its load
 update), ``model_path_step`` (the step of a prescribed path, where no
 solver tries a step twice: the model's step unless it has a lighter one),
+``model_load`` (what a mounted path calls on the real state where the
+load changes: the model's ``force`` unless its state does not follow the
+load, :func:`polind.kernels.contract.no_load_change`),
 ``model_trial`` (the model's read-only trial, or
 :func:`polind.kernels.contract.no_trial`) and, for a model with a blocked
 motion path, ``model_blocks`` (plain Python: whether a motion runs in its
@@ -41,6 +44,7 @@ from polind.kernels.contract import no_block as model_block, no_blocks as model_
 from polind.kernels.contract import no_trial as model_trial
 
 model_step = model_force = model_tangent = model_settled = model_path_step = None
+model_load = None
 
 # --- template: every line below is copied into each generated module ---
 from polind.kernels.buffer import body_sample, stepper_sample  # noqa: E402
@@ -167,11 +171,11 @@ def mounted_step(mount, scalars, table, state, scratch, step, displacement, step
 
 @jit
 def mounted_path(mount, scalars, table, state, scratch, step_length, displacement,
-                 step_velocity, sample_velocity, loads, constant_load, lo, hi, first, out_force):
-    """:func:`polind.kernels.series.run_mounted_with` of :func:`mounted_step`."""
-    run_mounted_with(mounted_step, model_force, mount, scalars, table, state, scratch,
+                 step_velocity, sample_velocity, loads, constant_load, lo, hi, out_force):
+    """:func:`polind.kernels.series.run_mounted_with` of :func:`mounted_step` and ``model_load``."""
+    run_mounted_with(mounted_step, model_load, mount, scalars, table, state, scratch,
                      step_length, displacement, step_velocity, sample_velocity, loads,
-                     constant_load, lo, hi, first, out_force)
+                     constant_load, lo, hi, out_force)
 
 
 @jit

@@ -138,9 +138,14 @@ class StepKernel:
         """Run the path arrays (indexed by the sample a step ends at) over ``lo .. hi - 1``."""
         loads = NO_LOADS if loads is None else loads
         if self.mount is not None:
+            if first:
+                # The first sample in Python (the spring's force, or the model's force
+                # on a rigid mount): the compiled mounted path takes the samples after it.
+                out_force[lo] = self.first_force(
+                    sample_velocity[lo], loads[lo] if loads.shape[0] > 0 else None)
             self.runners.mounted_path(self.mount, self.scalars, self.table, self.state,
                                       self.scratch, step, displacement, step_velocity,
-                                      sample_velocity, loads, self.normal_load, lo, hi, first,
+                                      sample_velocity, loads, self.normal_load, lo, hi,
                                       out_force)
         else:
             self.runners.path(self.scalars, self.table, self.state, step, displacement,

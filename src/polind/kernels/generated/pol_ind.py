@@ -12,6 +12,7 @@ from polind.kernels.pol_ind import pol_ind_force as model_force
 from polind.kernels.pol_ind import pol_ind_tangent as model_tangent
 from polind.kernels.pol_ind import settled_step as model_settled
 from polind.kernels.pol_ind import pol_ind_step as model_path_step
+from polind.kernels.pol_ind import pol_ind_force as model_load
 from polind.kernels.buffer import body_sample, stepper_sample  # noqa: E402
 from polind.kernels.contract import run_motion, run_steps  # noqa: E402
 from polind.kernels.dynamics import (advance_body_with, bare_commit, bare_trial,  # noqa: E402
@@ -136,11 +137,11 @@ def mounted_step(mount, scalars, table, state, scratch, step, displacement, step
 
 @jit
 def mounted_path(mount, scalars, table, state, scratch, step_length, displacement,
-                 step_velocity, sample_velocity, loads, constant_load, lo, hi, first, out_force):
-    """:func:`polind.kernels.series.run_mounted_with` of :func:`mounted_step`."""
-    run_mounted_with(mounted_step, model_force, mount, scalars, table, state, scratch,
+                 step_velocity, sample_velocity, loads, constant_load, lo, hi, out_force):
+    """:func:`polind.kernels.series.run_mounted_with` of :func:`mounted_step` and ``model_load``."""
+    run_mounted_with(mounted_step, model_load, mount, scalars, table, state, scratch,
                      step_length, displacement, step_velocity, sample_velocity, loads,
-                     constant_load, lo, hi, first, out_force)
+                     constant_load, lo, hi, out_force)
 
 
 @jit
