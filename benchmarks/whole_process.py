@@ -1,12 +1,13 @@
 """What the user waits for: whole `polind` processes, cold and warm (issue 25, item 4).
 
     python benchmarks/whole_process.py [--json results.json] [--quick] [--warm-runs N]
-                                       [--timeout SECONDS]
+                                       [--cold-runs N] [--timeout SECONDS]
 
 The same rows as ``polind bench --processes`` (:mod:`polind.bench.processes`):
 each case is one ``polind`` process timed from outside, first with
-``NUMBA_CACHE_DIR`` an empty temporary directory (every kernel compiled),
-then best of ``--warm-runs`` with the same directory (every kernel loaded).
+``NUMBA_CACHE_DIR`` an empty temporary directory (every kernel compiled;
+best of ``--cold-runs``, each with a new empty directory), then best of
+``--warm-runs`` with the first one's directory (every kernel loaded).
 The cases: ``simulate`` of each registered model along a 2000-sample motion,
 LuGre and the default Pol-Ind model with a ``[model.compliance]``, Pol-Ind on
 the shipped height map with a compliance, ``fit`` of LuGre and of that map
@@ -33,12 +34,15 @@ def main(argv=None):
     parser.add_argument("--quick", action="store_true",
                         help="only simulate of LuGre without and with a compliance")
     parser.add_argument("--warm-runs", type=int, default=2, help="warm runs per case (best)")
+    parser.add_argument("--cold-runs", type=int, default=2,
+                        help="cold runs per case, each with an empty cache (best)")
     parser.add_argument("--timeout", type=float, default=processes.DEFAULT_TIMEOUT,
                         help="seconds a process may take (default %(default)g)")
     args = parser.parse_args(argv)
     print(processes.format_processes([]), flush=True)
     rows = processes.run_processes(
-        quick=args.quick, warm_runs=args.warm_runs, timeout=args.timeout,
+        quick=args.quick, warm_runs=args.warm_runs, cold_runs=args.cold_runs,
+        timeout=args.timeout,
         progress=lambda row: print(processes.format_processes([row]).splitlines()[-1],
                                    flush=True))
     targets = processes.target_rows(rows)

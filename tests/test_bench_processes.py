@@ -26,8 +26,8 @@ def repository_files():
 def test_a_case_runs_cold_in_an_empty_cache_then_warm_in_the_same(tmp_path):
     before = repository_files()
     seen = []
-    rows = processes.run_processes(["simulate coulomb"], warm_runs=1, folder=tmp_path,
-                                   progress=seen.append)
+    rows = processes.run_processes(["simulate coulomb"], warm_runs=1, cold_runs=2,
+                                   folder=tmp_path, progress=seen.append)
     assert seen == rows and len(rows) == 1
     row = rows[0]
     assert row.case == "simulate coulomb"

@@ -74,8 +74,9 @@ def bench(models, big_files, processes):
     and peak memory of a `polind simulate` process of a 4-element
     Maxwell-slip model along a 1e7-sample motion CSV (targets 8 s, 1 GB).
     With --processes, last: whole `polind` processes, each first with an empty
-    numba cache directory (NUMBA_CACHE_DIR) and then with the cache it filled,
-    and the ratios of those times against their targets.
+    numba cache directory (NUMBA_CACHE_DIR; best of two, each with its own)
+    and then with the cache it filled (best of two), and the ratios of those
+    times against their targets.
     """
     from polind.bench import big_files as big, harness, processes as whole, ratios, surfaces
     from polind.models.registry import model_class
