@@ -28,7 +28,7 @@ of a step at trial velocities without keeping the state it leaves: by
 default they copy the state into scratch, step the copy and take the
 tangent there.  One of polind's element models also has a *read-only
 trial* (:func:`no_trial` documents it), which computes that force and
-tangent in one pass over its elements without writing anything.
+tangent in one pass over its elements without writing the state.
 
 Everything else — prescribed paths (:func:`run_steps`), the implicit body of
 :mod:`polind.kernels.dynamics`, the series spring of
@@ -288,7 +288,8 @@ def no_trial(scalars, table, state, out, keep, step, displacement, step_velocity
     a model without one); else the number ``m`` of leading entries of
     ``out`` that hold the state after the step (its other entries are
     ``state``'s own), which may be 0 unless ``keep``: with ``keep`` the
-    caller means to take that state if the step is accepted.  Inlined, so
+    caller means to take that state if the step is accepted.  ``out`` is the
+    caller's scratch: a trial may write it with or without ``keep``.  Inlined, so
     that the callers' test of ``written`` folds away.
     """
     return math.nan, math.nan, -1

@@ -199,7 +199,7 @@ def solve_step(trial, tangent_function, memoryless, rest_capacity, force_scale,
     trials that are likely the last (the residual before them within
     :data:`KEEP_BELOW` tolerances, :data:`KEEP_BELOW_NEWTON` after a Newton
     step) ask the model to keep their state
-    (``keep``); a model's read-only trial writes nothing otherwise.
+    (``keep``); otherwise the scratch a model's read-only trial writes is not taken.
 
     A memoryless model's ``rest_capacity`` is that at the mount's reference
     load, scaled by ``load_ratio`` (:mod:`polind.kernels.mount`).

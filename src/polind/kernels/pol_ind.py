@@ -560,8 +560,8 @@ def pol_ind_trial_step(scalars, table, state, out, keep, step, displacement, ste
 
     At the load the table was last brought to, the step is the GMS step of
     the table (:func:`settled_step_with`): ``(F, dF/dw, written)`` from
-    :func:`polind.kernels.elements.gms_trial_scaled` (with ``keep``, the
-    new element forces and slip directions in ``out``), after the weight
+    :func:`polind.kernels.elements.gms_trial_scaled` (the new element
+    forces and slip directions in ``out``, to be taken with ``keep``), after the weight
     rows are brought up to date if a step left them stale, as the step would
     (the writes, to the table and its decay factors (:func:`decay_row`), are
     the step's own).  At another load
