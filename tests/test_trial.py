@@ -130,7 +130,9 @@ def test_pol_ind_brings_stale_weights_up_to_date_as_its_step_would():
     assert scalars[pol_ind.TABLE_STALE] == 1.0
     copies = scalars.copy(), table.copy(), state.copy()
     expected = pol_ind.settled_step(*copies, STEP, 2e-6, 2e-3, 2e-3, load)
-    force, _, written = pol_ind.pol_ind_trial_step(scalars, table, state, np.zeros(0), False,
+    # `out` is scratch the trial may write (one state), kept or not.
+    force, _, written = pol_ind.pol_ind_trial_step(scalars, table, state,
+                                                   np.zeros(state.shape[0]), False,
                                                    STEP, 2e-6, 2e-3, 2e-3, load)
     assert written == 0 and scalars[pol_ind.TABLE_STALE] == 0.0
     assert abs(force - expected) <= 1e-13 * (abs(expected) + 1.0)

@@ -324,25 +324,20 @@ def maxwell_slip_trial_step(scalars, table, state, out, keep, step, displacement
 
     ``(F, tangent, written)``: the force :func:`maxwell_slip_step` returns
     and ``maxwell_slip_tangent`` of the state it leaves, in one pass
-    over the elements; with ``keep`` the new element forces go to ``out``.
+    over the elements.  The new element forces go to ``out`` (the caller's
+    scratch), keep or not, as in
+    :func:`gms_trial_scaled`; ``written`` is their number with ``keep``, else 0.
     """
     stiffness = table[ELEMENT_STIFFNESS]
     capacity = table[ELEMENT_CAPACITY]
     total = 0.0
     elastic = 0.0
-    written = 0
-    if keep:
-        written = state.shape[0]
-        for i in range(state.shape[0]):
-            force = maxwell_slip_element(state[i], stiffness[i], capacity[i], displacement)
-            out[i] = force
-            total += force
-            elastic += stiffness[i] if abs(force) < capacity[i] else 0.0
-    else:
-        for i in range(state.shape[0]):
-            force = maxwell_slip_element(state[i], stiffness[i], capacity[i], displacement)
-            total += force
-            elastic += stiffness[i] if abs(force) < capacity[i] else 0.0
+    for i in range(state.shape[0]):
+        force = maxwell_slip_element(state[i], stiffness[i], capacity[i], displacement)
+        out[i] = force
+        total += force
+        elastic += stiffness[i] if abs(force) < capacity[i] else 0.0
+    written = state.shape[0] if keep else 0
     return (total + scalars[VISCOUS] * sample_velocity, step * elastic + scalars[VISCOUS],
             written)
 
