@@ -2,7 +2,8 @@
 
 A model built at one load solves its separation with the Python run of the
 statistical Newton kernel, and asks the Greenwood–Williamson pair a few
-values with the Python run of the pair: no compilation for either.  These
+values with the Python run of the pair; a run's first force is the Python
+run of the model's force: no compilation for any of them.  These
 tests compare every bit with the compiled kernels (the reference) and check
 that such a build compiles neither.
 """
@@ -24,8 +25,9 @@ from polind.contact import separation as contact_separation
 from polind.contact.surface import StatisticalSurface
 from polind.kernels import greenwood as gw_kernels
 from polind.kernels import separation as kernels
-from polind.kernels.interpreted import interpreted
+from polind.kernels.interpreted import call_once, interpreted
 from polind.kernels.special import special_addresses
+from polind.models import MODEL_TYPES
 
 SURFACE = StatisticalSurface(1e10, 1e-4, 50e-6, 0.5e-6, 1.15e11, 2.4e10)
 ARGUMENTS = contact_separation._kernel_surface(SURFACE)
@@ -92,3 +94,41 @@ def test_a_model_built_at_one_load_compiles_no_separation_kernel(tmp_path):
     assert abs(load - normal_load) <= kernels.RELATIVE_TOLERANCE * normal_load
     assert math.isfinite(separation)
     assert (newton, pair) == (0, 0)
+
+
+def _moved_kernel(model_type, fixed_load):
+    """A model's kernel after a back-and-forth motion (stuck and slipping elements, bristles bent)."""
+    model = MODEL_TYPES[model_type].example()
+    kernel = model.step_kernel(model.initial_state(), fixed_load=fixed_load)
+    step = 1e-4
+    for k in range(300):
+        velocity = 2e-3 * math.sin(2.0 * math.pi * k / 150.0)
+        kernel.step(kernel.scalars, kernel.table, kernel.state, step, velocity * step, velocity,
+                    velocity, kernel.normal_load)
+    return kernel
+
+
+@pytest.mark.parametrize("fixed_load", [False, True], ids=["own-step", "fixed-load"])
+@pytest.mark.parametrize("model_type", sorted(MODEL_TYPES))
+def test_the_first_sample_force_is_the_compiled_force_to_the_bit(model_type, fixed_load):
+    # A run's first force is call_once's: by Python where the model's force is compiled
+    # without fastmath (every model's but Pol-Ind's at a varying load), else compiled.
+    kernel = _moved_kernel(model_type, fixed_load)
+    for velocity in (0.0, 1e-5, -3e-3, 0.2, -40.0):
+        arguments = (kernel.scalars, kernel.table, kernel.state, velocity, kernel.normal_load)
+        compiled = kernel.force(*arguments)
+        assert bits([call_once(kernel.force, *arguments)]) == bits([compiled])
+        if not kernel.force.targetoptions.get("fastmath"):
+            assert bits([interpreted(kernel.force)(*arguments)]) == bits([compiled])
+
+
+def test_call_once_falls_back_to_the_compiled_kernel_where_python_stops():
+    from polind.kernels import jit
+
+    @jit(fastmath=False)
+    def ratio(a, b):
+        return a / b
+
+    # Python raises ZeroDivisionError; numba (error_model "numpy") gives inf.
+    assert call_once(ratio, 1.0, 0.0) == math.inf
+    assert call_once(ratio, 1.0, 4.0) == 0.25

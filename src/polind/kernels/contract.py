@@ -47,6 +47,7 @@ import math
 import numpy as np
 
 from polind.kernels import jit
+from polind.kernels.interpreted import call_once
 
 # Codes of :func:`check_times` and :func:`cut_path` (with the index of the first bad sample).
 #: Code: every sample is valid.
@@ -131,7 +132,10 @@ def first_motion_sample(force, scalars, table, state, source_t, source_motion, t
     given) or ``position`` (``start_position``, velocities given) at ``lo``
     and ``out_force[lo]``; returns the codes of :func:`run_motion` for a bad
     sample ``lo`` or ``lo + 1``.  Kept out of the compiled loop so that the
-    loop a run needs compiles without it.
+    loop a run needs compiles without it; the force is
+    :func:`polind.kernels.interpreted.call_once`'s (by Python where the
+    model's ``force`` is compiled without fastmath: the same bits, nothing
+    compiled).
     """
     t[lo] = source_t[lo]
     motion[lo] = source_motion[lo]
@@ -159,8 +163,8 @@ def first_motion_sample(force, scalars, table, state, source_t, source_motion, t
         else:
             sample_velocity = start_velocity
         velocity[lo] = sample_velocity
-    out_force[lo] = force(scalars, table, state, sample_velocity,
-                          sample_load.py_func(loads, constant_load, lo))
+    out_force[lo] = call_once(force, scalars, table, state, sample_velocity,
+                              sample_load.py_func(loads, constant_load, lo))
     return VALID, -1
 
 

@@ -191,7 +191,7 @@ def gms_decayed_element(force, slip, stiffness, weight, capacity_scale, directio
 
 @jit(inline="always")
 def gms_element_slope(force, slip, weight, inverse, capacity_scale, direction, decay):
-    """One element's share of ``dF/dw`` through ``g(w)``: ``(a, b)`` of :func:`gms_trial_elements`.
+    """One element's share of ``dF/dw`` through ``g(w)``: ``(a, b)`` of :func:`gms_kept_elements`.
 
     The element as :func:`gms_decayed_element` steps it: in slip it relaxes
     to ``T + (F - T) e`` with ``T = sgn(v) alpha g`` and ``e = exp(-C h /
@@ -306,7 +306,7 @@ def maxwell_slip_step(scalars, table, state, step, displacement, step_velocity,
     return total + scalars[VISCOUS] * sample_velocity
 
 
-@jit
+@jit(fastmath=False)
 def maxwell_slip_force(scalars, table, state, sample_velocity, normal_load):
     return element_sum(state) + scalars[VISCOUS] * sample_velocity
 
@@ -453,7 +453,7 @@ def gms_step(scalars, table, state, step, displacement, step_velocity, sample_ve
                            scalars[COULOMB], scalars[STATIC])
 
 
-@jit
+@jit(fastmath=False)
 def gms_force(scalars, table, state, sample_velocity, normal_load):
     return element_sum(state[:table.shape[1]]) + scalars[VISCOUS] * sample_velocity
 

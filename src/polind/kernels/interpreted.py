@@ -9,7 +9,7 @@ its interpreted version in turn, so the call compiles nothing.
 
 The results are the compiled kernel's, to the bit, where the compiled
 arithmetic is IEEE's: for kernels compiled without ``fastmath`` (no
-reassociation; no fused multiply-add: :mod:`polind.kernels` enables no
+reassociation; no fused multiply-add: ``polind.kernels`` enables no
 contraction), whose ``math`` calls reach the same C library as Python's.
 :func:`interpreted` refuses a kernel compiled with ``fastmath`` (a kernel
 inlined into its caller is compiled with its caller's options, so only the
@@ -29,7 +29,7 @@ import types
 
 from numba.core.dispatcher import Dispatcher
 
-__all__ = ["interpreted", "register_twin"]
+__all__ = ["interpreted", "register_twin", "call_once"]
 
 _TWINS: dict = {}
 
@@ -88,3 +88,27 @@ def _interpreted(kernel, root):
     result.__qualname__ = function.__qualname__
     _CACHE[key] = result
     return result
+
+
+def call_once(kernel, *arguments):
+    """``kernel(*arguments)`` for a call made once per run, compiled only where it must be.
+
+    By Python (:func:`interpreted`: nothing compiled, the compiled kernel's
+    results to the bit) where the kernel can be interpreted; compiled where
+    it cannot (a kernel compiled with ``fastmath``, or not a numba kernel at
+    all) and where Python's arithmetic stops that numba's does not (a
+    division by zero, an overflow: numba gives ``inf`` or NaN there, which
+    is the result the caller gets).  For the first sample of a run, whose
+    force alone would otherwise compile the model's ``force`` (LuGre's: a
+    quarter of a second).
+    """
+    try:
+        function = interpreted(kernel) if isinstance(kernel, Dispatcher) else kernel
+    except ValueError:
+        return kernel(*arguments)
+    if function is kernel:
+        return kernel(*arguments)
+    try:
+        return function(*arguments)
+    except (ArithmeticError, ValueError):
+        return kernel(*arguments)

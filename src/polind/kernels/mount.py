@@ -28,6 +28,7 @@ import math
 import numpy as np
 
 from polind.kernels import jit
+from polind.kernels.interpreted import call_once
 
 STIFFNESS = 0          # k_s [N/m] of the series spring; inf: none (a rigid mount)
 REFERENCE_LOAD = 1     # N0 [N] of the load scaling; 0: none
@@ -96,7 +97,7 @@ def first_force(force_function, mount, scalars, table, state, sample_velocity, n
     """
     if mount is not None and mount[STIFFNESS] < math.inf:
         return float(mount[SPRING_FORCE])
-    force = force_function(scalars, table, state, sample_velocity, normal_load)
+    force = call_once(force_function, scalars, table, state, sample_velocity, normal_load)
     if mount is None:
         return float(force)
     return float(scaled_force(mount, force, sample_velocity, normal_load))

@@ -109,7 +109,7 @@ def fixed_load_trial_step(scalars, table, state, out, keep, step, displacement, 
                             scalars[STATIC_COEFFICIENT] * normal_load)
 
 
-@jit
+@jit(fastmath=False)
 def fixed_load_force(scalars, table, state, sample_velocity, normal_load):
     """``pol_ind_force`` of a run at the table's own constant load (see :func:`fixed_load_step`).
 

@@ -68,7 +68,7 @@ def dahl_step(scalars, table, state, step, displacement, step_velocity, sample_v
     return force
 
 
-@jit
+@jit(fastmath=False)
 def dahl_force(scalars, table, state, sample_velocity, normal_load):
     return state[0]
 
@@ -123,7 +123,7 @@ def _lugre_force_at(scalars, z, velocity):
                         scalars[LUGRE_VISCOUS])
 
 
-@jit
+@jit(fastmath=False)
 def lugre_force(scalars, table, state, sample_velocity, normal_load):
     return _lugre_force_at(scalars, state[0], sample_velocity)
 
@@ -310,7 +310,7 @@ def leuven_step(scalars, table, state, step, displacement, step_velocity, sample
     return hysteresis + scalars[LEUVEN_DAMPING] * rate + scalars[LEUVEN_VISCOUS] * sample_velocity
 
 
-@jit
+@jit(fastmath=False)
 def leuven_force(scalars, table, state, sample_velocity, normal_load):
     n = table.shape[1]
     return (element_sum(state[:n]) + scalars[LEUVEN_DAMPING] * state[n + 1]

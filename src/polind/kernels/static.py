@@ -21,7 +21,7 @@ STRIBECK_SHAPE = 5     # polind.kernels.stribeck shape code
 N_SCALARS = 6
 
 
-@jit
+@jit(fastmath=False)
 def memoryless_force(scalars, table, state, sample_velocity, normal_load):
     """``g(v) sgn(v) + sigma2 v`` at the sample's velocity (``sgn(0) = 0``)."""
     g = stribeck_curve(sample_velocity, scalars[COULOMB], scalars[STATIC],
