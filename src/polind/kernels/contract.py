@@ -266,7 +266,7 @@ def no_block(scalars, table, state, source_t, source_motion, t, motion, velocity
 def no_load_change(scalars, table, state, sample_velocity, normal_load):
     """What a model whose state does not follow the normal load does where it changes: nothing.
 
-    A mounted path (:func:`polind.kernels.series.run_mounted_with`) brings
+    A mounted path (the runners' ``mounted_path``, :mod:`polind.kernels.template`) brings
     the model's real state to a new load before the spring's trials, which
     run on copies, with the model's ``load`` function: its ``force`` (the
     default: Pol-Ind's restarts its element table there), or this one for

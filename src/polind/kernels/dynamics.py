@@ -195,7 +195,7 @@ def solve_step(trial, tangent_function, memoryless, rest_capacity, force_scale,
     entries of ``scratch`` that hold the state after that trial's step (the
     rest is ``state``'s own) when the returned ``w`` is the last trial's,
     else NaN and 0.  With ``reuse`` (a caller that takes that state instead
-    of stepping again: :func:`polind.kernels.series.mounted_step_with`) the
+    of stepping again: the runners' ``mounted_step``, :mod:`polind.kernels.template`) the
     trials that are likely the last (the residual before them within
     :data:`KEEP_BELOW` tolerances, :data:`KEEP_BELOW_NEWTON` after a Newton
     step) ask the model to keep their state

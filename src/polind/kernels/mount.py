@@ -92,7 +92,7 @@ def first_force(force_function, mount, scalars, table, state, sample_velocity, n
     Behind a series spring it is the spring's force (0 at rest); else the
     model's ``force`` at ``sample_velocity``, scaled by the load.  ``mount``
     may be None (nothing around the contact).  The first sample of a mounted
-    path (:func:`polind.kernels.series.run_mounted_with` takes the samples
+    path (the runners' ``mounted_path`` takes the samples
     after it).
     """
     if mount is not None and mount[STIFFNESS] < math.inf:

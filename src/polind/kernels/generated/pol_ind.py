@@ -18,8 +18,14 @@ from polind.kernels.contract import run_motion, run_steps  # noqa: E402
 from polind.kernels.dynamics import (advance_body_with, bare_commit, bare_trial,  # noqa: E402
                                      body_advance_with, body_batch_with,
                                      body_step as body_step_with, integrate_system_with)
-from polind.kernels.series import (contact_trial, mounted_commit,  # noqa: E402
-                                   mounted_step_with, mounted_trial, run_mounted_with)
+import math  # noqa: E402
+
+from polind.kernels.contract import sample_load  # noqa: E402
+from polind.kernels.dynamics import solve_step  # noqa: E402
+from polind.kernels.mount import (CONTACT_POSITION, CONTACT_VELOCITY, FORCE_SCALE,  # noqa: E402
+                                  MEMORYLESS, REST_CAPACITY, SPRING_FORCE, STIFFNESS,
+                                  contact_step, load_ratio, scaled_force)
+from polind.kernels.series import mounted_commit  # noqa: E402
 
 
 @jit
@@ -117,40 +123,126 @@ def body_buffer(buffer, normal_load, applied_force):
     return body_sample(body_step, model_force, buffer, normal_load, applied_force)
 
 
+# The mounted contact (polind.kernels.series): these runners are the only users of their
+# loops, which are therefore written here rather than inlined from there (numba copies an
+# inlined function's IR once per block; a solver one level deeper cost 0.45 s to compile).
 @jit
 def spring_trial(memoryless, mount, scalars, table, state, scratch, velocity, step,
                  sample_slope, sample_offset, normal_load, keep):
-    """The spring's solve's trial: :func:`polind.kernels.series.contact_trial` of the model."""
-    return contact_trial(model_step, model_tangent, model_trial, memoryless, mount, scalars,
-                         table, state, scratch, velocity, step, sample_slope, sample_offset,
-                         normal_load, keep)
+    """The spring's solve's trial: ``(F_contact(w), dF/dw, written, exact)``, ``state`` untouched.
+
+    Of the contact scaled by its load (:mod:`polind.kernels.mount`): from the
+    model's read-only ``model_trial`` where it answers
+    (:func:`polind.kernels.contract.no_trial`, given ``scratch`` and
+    ``keep``; ``exact``: its ``dF/dw``), else from its step on a copy of
+    ``state`` (in ``scratch``) and the model's tangent there; ``written`` as in
+    :func:`polind.kernels.dynamics.solve_step`.
+    """
+    sample_velocity = velocity if memoryless else sample_slope * velocity + sample_offset
+    force, tangent, written = model_trial(scalars, table, state, scratch, keep, step,
+                                          velocity * step, velocity, sample_velocity,
+                                          normal_load)
+    answered = written >= 0
+    if not answered:
+        n = state.shape[0]
+        written = n
+        work = scratch[:n]
+        for i in range(n):  # a loop: `work[:] = state` compiles NumPy's shape-error message (5 s)
+            work[i] = state[i]
+        force = model_step(scalars, table, work, step, velocity * step, velocity,
+                           sample_velocity, normal_load)
+        tangent = model_tangent(scalars, table, work, step)
+    return (scaled_force(mount, force, sample_velocity, normal_load),
+            load_ratio(mount, normal_load) * tangent, written, answered)
 
 
 @jit
 def mounted_step(mount, scalars, table, state, scratch, step, displacement, step_velocity,
                  sample_velocity, normal_load):
-    """:func:`polind.kernels.series.mounted_step_with` of the model: ``(F, du, w)``."""
-    return mounted_step_with(spring_trial, model_step, model_tangent, mount, scalars, table,
-                             state, scratch, step, displacement, step_velocity, sample_velocity,
-                             normal_load)
+    """One step of the mounted contact: ``(F, du, w)``; ``state`` advanced, ``mount`` untouched.
+
+    ``displacement`` and ``step_velocity`` are the far end's (``x``);
+    ``scratch`` holds at least one state for the spring's solve
+    (:func:`polind.kernels.dynamics.solve_step` with :func:`spring_trial`).
+    Compiled on its own and called by the runners below: inlined into the
+    body's solver it would put one solver inside another and multiply the
+    compile time.
+    """
+    stiffness = mount[STIFFNESS]
+    if stiffness == math.inf:
+        force = contact_step(model_step, mount, scalars, table, state, step, displacement,
+                             step_velocity, sample_velocity, normal_load)
+        return force, displacement, step_velocity
+    known = mount[SPRING_FORCE] + stiffness * displacement
+    velocity, held, trial_force, written = solve_step(
+        spring_trial, model_tangent, mount[MEMORYLESS] != 0.0,
+        mount[REST_CAPACITY], mount[FORCE_SCALE], mount,
+        scalars, table, state, scratch, stiffness * step, known, mount[CONTACT_VELOCITY], step,
+        mount[CONTACT_POSITION], 1.0, 0.0, normal_load, True)
+    if held:
+        return known, 0.0, 0.0
+    contact_displacement = velocity * step
+    if written > 0:
+        # The last trial was the accepted step, and kept the state it leaves: take it
+        # rather than step again (its force is the step's, summed in its own loop).
+        for i in range(written):
+            state[i] = scratch[i]
+        return trial_force, contact_displacement, velocity
+    force = contact_step(model_step, mount, scalars, table, state, step, contact_displacement,
+                         velocity, velocity, normal_load)
+    return force, contact_displacement, velocity
 
 
 @jit
 def mounted_path(mount, scalars, table, state, scratch, step_length, displacement,
                  step_velocity, sample_velocity, loads, constant_load, lo, hi, out_force):
-    """:func:`polind.kernels.series.run_mounted_with` of :func:`mounted_step` and ``model_load``."""
-    run_mounted_with(mounted_step, model_load, mount, scalars, table, state, scratch,
-                     step_length, displacement, step_velocity, sample_velocity, loads,
-                     constant_load, lo, hi, out_force)
+    """:func:`path` of the mounted contact, samples ``lo + 1 .. hi - 1``.
+
+    Sample ``lo`` is taken as done: the first sample of a run is Python's
+    (:func:`polind.kernels.mount.first_force`), so this loop compiles no
+    ``force``.  Where the load changes, ``model_load`` brings the model's
+    real state to it first (the model's ``force``, or
+    :func:`polind.kernels.contract.no_load_change`).
+    """
+    previous_load = sample_load(loads, constant_load, lo)
+    for k in range(lo + 1, hi):
+        load = sample_load(loads, constant_load, k)
+        if load != previous_load:
+            # Bring the model to the new load on its real state first (a model
+            # whose element table follows the load, Pol-Ind, clips and restarts
+            # its elements there): the spring's trials run on copies.
+            model_load(scalars, table, state, sample_velocity[k - 1], load)
+            previous_load = load
+        out_force[k] = mounted_commit(mounted_step, mount, scalars, table, state, scratch,
+                                      step_length[k], displacement[k], step_velocity[k],
+                                      sample_velocity[k], load)
 
 
 @jit
 def mounted_body_trial(memoryless, mount, scalars, table, state, scratch, velocity, step,
                        sample_slope, sample_offset, normal_load, keep):
-    """The body solver's trial of the mounted contact (:func:`polind.kernels.series.mounted_trial`)."""
-    return mounted_trial(mounted_step, model_tangent, memoryless, mount, scalars, table, state,
-                         scratch, velocity, step, sample_slope, sample_offset, normal_load,
-                         keep)
+    """The body solver's trial of the mounted contact: ``(F(w), dF/dw, 0, False)``.
+
+    :func:`mounted_step` on a copy of ``state``: ``scratch`` holds two
+    states, the trial's and, behind it, the spring's solve.  The tangent of
+    the spring (``k_s h``) in series with the contact's (the model's tangent:
+    not ``exact``).  ``keep`` is not used: the body steps its accepted
+    velocity again (``written`` is 0).
+    """
+    n = state.shape[0]
+    work = scratch[:n]
+    for i in range(n):      # a loop: `work[:] = state` compiles NumPy's shape-error message (5 s)
+        work[i] = state[i]
+    sample_velocity = velocity if memoryless else sample_slope * velocity + sample_offset
+    force, contact_displacement, contact_velocity = mounted_step(
+        mount, scalars, table, work, scratch[n:], step, velocity * step, velocity,
+        sample_velocity, normal_load)
+    tangent = load_ratio(mount, normal_load) * model_tangent(scalars, table, work, step)
+    spring = mount[STIFFNESS] * step
+    if spring < math.inf:
+        total = spring + tangent
+        tangent = spring * tangent / total if total > 0.0 else 0.0
+    return force, tangent, 0, False
 
 
 @jit
