@@ -466,7 +466,8 @@ MODULES = (
                           "polind.kernels.plastic_separation", "polind.kernels.pol_ind",
                           "polind.kernels.pol_ind_plastic", "polind.kernels.pol_ind_fixed",
                           "polind.kernels.special", "polind.kernels.fastexp",
-                          "polind.kernels.interpreted", "polind.kernels.cache")),
+                          "polind.kernels.select", "polind.kernels.interpreted",
+                          "polind.kernels.cache")),
 )
 
 # Packages of MODULES documented as one module (the names their own modules define are

@@ -36,6 +36,7 @@ import numpy as np
 from polind.kernels import jit
 from polind.kernels.contract import block_views, cut_sample
 from polind.kernels.fastexp import decay_exp
+from polind.kernels.select import select
 from polind.kernels.stribeck import sign, stribeck_curve, stribeck_slope
 
 
@@ -183,10 +184,10 @@ def gms_decayed_element(force, slip, stiffness, weight, capacity_scale, directio
     target = direction * capacity
     relaxed = target + (force - target) * decay
     trial = force + stiffness * displacement
-    slipping = (slip == direction) or (direction * force >= capacity)
+    slipping = (slip == direction) | (direction * force >= capacity)
     crosses = direction * trial >= capacity
-    new_force = relaxed if slipping else (target if crosses else trial)
-    return new_force, direction if (slipping or crosses) else 0.0
+    new_force = select(slipping, relaxed, select(crosses, target, trial))
+    return new_force, select(slipping | crosses, direction, 0.0)
 
 
 @jit(inline="always")
@@ -203,11 +204,11 @@ def gms_element_slope(force, slip, weight, inverse, capacity_scale, direction, d
     """
     capacity = weight * capacity_scale
     target = direction * capacity
-    slipping = (slip == direction) or (direction * force >= capacity)
+    slipping = (slip == direction) | (direction * force >= capacity)
     relaxing = (force - target) * decay
-    a = direction * weight * ((1.0 - decay) if slipping else 1.0)
-    b = relaxing * inverse if decay > 0.0 else 0.0
-    return a, b if slipping else 0.0
+    a = direction * weight * select(slipping, 1.0 - decay, 1.0)
+    b = select(decay > 0.0, relaxing * inverse, 0.0)
+    return a, select(slipping, b, 0.0)
 
 
 @jit(inline="always")
@@ -239,8 +240,8 @@ def gms_kept_elements(factor, element_force, slip_direction, stiffness, weight, 
         out_force[i] = force
         out_slip[i] = slip
         total += force
-        stuck += stiffness[i] if slip == 0.0 else 0.0
-        slope_a += a if slip != 0.0 else 0.0
+        stuck += select(slip == 0.0, stiffness[i], 0.0)
+        slope_a += select(slip != 0.0, a, 0.0)
         slope_b += b
     return total, stuck, slope_a, slope_b
 
@@ -290,7 +291,7 @@ def stuck_stiffness(stiffness, slip_direction):
     """Summed stiffness of the GMS elements in stick (a tangent)."""
     total = 0.0
     for i in range(stiffness.shape[0]):
-        total += stiffness[i] if slip_direction[i] == 0.0 else 0.0
+        total += select(slip_direction[i] == 0.0, stiffness[i], 0.0)
     return total
 
 
