@@ -132,3 +132,27 @@ def test_call_once_falls_back_to_the_compiled_kernel_where_python_stops():
     # Python raises ZeroDivisionError; numba (error_model "numpy") gives inf.
     assert call_once(ratio, 1.0, 0.0) == math.inf
     assert call_once(ratio, 1.0, 4.0) == 0.25
+
+
+def test_a_run_compiles_no_force_kernel_with_or_without_a_spring(tmp_path):
+    # The first sample's force is Python's (call_once), and a constant-load run behind a
+    # spring starts with the spring's force and has no load change to bring the model to.
+    code = (
+        "import json\n"
+        "import numpy as np\n"
+        "import polind\n"
+        "from polind.kernels import single\n"
+        "from polind.models import MODEL_TYPES\n"
+        "t = np.linspace(0.0, 0.2, 400)\n"
+        "x = 2e-5 * np.sin(2 * np.pi * 5 * t)\n"
+        "model = MODEL_TYPES['lugre'].example()\n"
+        "plain = polind.simulate(model, t, x).force\n"
+        "sprung = polind.simulate(model.with_params(compliance={'stiffness': 1e5}), t, x).force\n"
+        "print(json.dumps([float(plain[0]), float(plain[-1]), float(sprung[-1]),\n"
+        "                  len(single.lugre_force.signatures)]))\n")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=300, env={**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)})
+    assert done.returncode == 0, done.stderr
+    first, last, sprung_last, compiled = json.loads(done.stdout.splitlines()[-1])
+    assert math.isfinite(first) and last != 0.0 and sprung_last != 0.0   # real runs
+    assert compiled == 0
