@@ -114,7 +114,7 @@ def test_the_first_sample_force_is_the_compiled_force_to_the_bit(model_type, fix
     # A run's first force is call_once's: by Python where the model's force is compiled
     # without fastmath (every model's but Pol-Ind's at a varying load), else compiled.
     kernel = _moved_kernel(model_type, fixed_load)
-    for velocity in (0.0, 1e-5, -3e-3, 0.2, -40.0):
+    for velocity in (0.0, 1e-5, -3e-3, 0.2, -40.0, 1e300):   # 1e300: overflows inside
         arguments = (kernel.scalars, kernel.table, kernel.state, velocity, kernel.normal_load)
         compiled = kernel.force(*arguments)
         assert bits([call_once(kernel.force, *arguments)]) == bits([compiled])

@@ -15,18 +15,22 @@ contraction), whose ``math`` calls reach the same C library as Python's.
 inlined into its caller is compiled with its caller's options, so only the
 kernels compiled on their own are checked).  A kernel that calls machine
 code through an address (:mod:`polind.kernels.special`) has a Python twin
-registered with :func:`register_twin`, the same function called from Python.
+registered with :func:`register_twin`, the same function called from Python;
+so has an intrinsic (``select``, :mod:`polind.kernels.select`).
 
 Python checks what numba does not: a division by zero or an integer
 conversion of NaN raises instead of giving ``inf`` or an undefined
-integer.  Interpret only kernels whose inputs are checked before (the
+integer.  NumPy's floating-point warnings are off during a call (numba's
+arithmetic is IEEE's and warns of nothing: an overflow is ``inf``).  Interpret only kernels whose inputs are checked before (the
 kernels interpreted in polind say so where they are used).
 """
 
 from __future__ import annotations
 
+import functools
 import types
 
+import numpy as np
 from numba.core.dispatcher import Dispatcher
 
 __all__ = ["interpreted", "register_twin", "call_once"]
@@ -35,9 +39,19 @@ _TWINS: dict = {}
 
 
 def register_twin(kernel, function):
-    """Run ``function`` wherever :func:`interpreted` meets ``kernel`` (a kernel Python cannot run)."""
+    """Run ``function`` wherever :func:`interpreted` meets ``kernel`` (a kernel or an intrinsic
+    Python cannot run)."""
     _TWINS[kernel] = function
     _CACHE.pop(kernel, None)
+    _ROOTS.pop(kernel, None)
+
+
+def _is_twinned(value):
+    """Whether ``value`` (any global of a kernel) has a registered twin."""
+    try:
+        return value in _TWINS
+    except TypeError:           # unhashable: not a kernel
+        return False
 
 
 _CACHE: dict = {}
@@ -62,7 +76,19 @@ def interpreted(kernel):
         If ``kernel``, or a kernel it calls that is not inlined, is
         compiled with ``fastmath``.
     """
-    return _interpreted(kernel, root=True)
+    if kernel not in _ROOTS:
+        function = _interpreted(kernel, root=True)
+
+        @functools.wraps(function)
+        def quietly(*arguments):
+            with np.errstate(all="ignore"):
+                return function(*arguments)
+
+        _ROOTS[kernel] = quietly
+    return _ROOTS[kernel]
+
+
+_ROOTS: dict = {}
 
 
 def _interpreted(kernel, root):
@@ -82,6 +108,8 @@ def _interpreted(kernel, root):
         value = names.get(name)
         if isinstance(value, Dispatcher):
             names[name] = _interpreted(value, root=False)
+        elif _is_twinned(value):
+            names[name] = _TWINS[value]
     result = types.FunctionType(function.__code__, names, function.__name__,
                                 function.__defaults__, function.__closure__)
     result.__doc__ = function.__doc__
@@ -98,7 +126,8 @@ def call_once(kernel, *arguments):
     it cannot (a kernel compiled with ``fastmath``, or not a numba kernel at
     all) and where Python's arithmetic stops that numba's does not (a
     division by zero, an overflow: numba gives ``inf`` or NaN there, which
-    is the result the caller gets).  For the first sample of a run, whose
+    is the result the caller gets; and an intrinsic without a Python twin).
+    For the first sample of a run, whose
     force alone would otherwise compile the model's ``force`` (LuGre's: a
     quarter of a second).
     """
@@ -110,5 +139,6 @@ def call_once(kernel, *arguments):
         return kernel(*arguments)
     try:
         return function(*arguments)
-    except (ArithmeticError, ValueError):
+    except (ArithmeticError, ValueError, NotImplementedError):
+        # NotImplementedError: an intrinsic without a Python twin.
         return kernel(*arguments)

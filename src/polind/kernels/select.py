@@ -13,6 +13,8 @@ from __future__ import annotations
 from numba import types
 from numba.extending import intrinsic
 
+from polind.kernels.interpreted import register_twin
+
 
 @intrinsic
 def select(typingctx, condition, a, b):
@@ -25,3 +27,11 @@ def select(typingctx, condition, a, b):
         return builder.select(args[0], args[1], args[2])
 
     return signature, codegen
+
+
+def _python_select(condition, a, b):
+    """:func:`select` run by Python (:mod:`polind.kernels.interpreted`)."""
+    return a if condition else b
+
+
+register_twin(select, _python_select)

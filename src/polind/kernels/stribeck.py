@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 
 from polind.kernels import jit
+from polind.kernels.select import select
 
 EXPONENTIAL = 0
 RATIONAL = 1
@@ -35,13 +36,13 @@ def exact_exp(x):
 def power_ratio(v, stribeck_velocity, squared):
     """``|v/vs|^delta`` for ``delta = 2`` (``squared``) or 1: a product, no ``pow``."""
     ratio = abs(v / stribeck_velocity)
-    return ratio * ratio if squared else ratio
+    return select(squared, ratio * ratio, ratio)
 
 
 @jit(inline="always")
 def stribeck_ratio(v, stribeck_velocity, exponent):
     """``|v/vs|^delta``; a product for the usual exponents (pow costs more than a LuGre step)."""
-    if exponent == 2.0 or exponent == 1.0:
+    if (exponent == 2.0) | (exponent == 1.0):
         return power_ratio(v, stribeck_velocity, exponent == 2.0)
     return abs(v / stribeck_velocity) ** exponent
 
@@ -82,9 +83,9 @@ def stribeck_slope(v, coulomb_force, static_force, stribeck_velocity, exponent, 
 
 @jit(inline="always")
 def sign(v):
-    """sgn with sgn(0) = 0 (:ref:`guide-conventions`)."""
-    if v > 0.0:
-        return 1.0
-    if v < 0.0:
-        return -1.0
-    return 0.0
+    """sgn with sgn(0) = 0 (:ref:`guide-conventions`); 0 for NaN.
+
+    Selects, not branches (:mod:`polind.kernels.select`): it is inlined
+    into most kernels, and each branch would be blocks numba carries there.
+    """
+    return select(v > 0.0, 1.0, select(v < 0.0, -1.0, 0.0))
