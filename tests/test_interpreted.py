@@ -35,6 +35,14 @@ SMALLEST, LARGEST = SURFACE.load_range
 LO, HI = SURFACE.separation_range
 
 
+def in_a_fresh_process(code, cache_dir):
+    """The JSON ``code`` prints last, run in a new interpreter with an empty numba cache."""
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=300, env={**os.environ, "NUMBA_CACHE_DIR": str(cache_dir)})
+    assert done.returncode == 0, done.stderr
+    return json.loads(done.stdout.splitlines()[-1])
+
+
 def bits(values):
     """The float64 bits of each value (so that NaN equals NaN and -0.0 differs from 0.0)."""
     return [np.float64(value).view(np.int64).item() for value in values]
@@ -87,10 +95,7 @@ def test_a_model_built_at_one_load_compiles_no_separation_kernel(tmp_path):
         "                  contact.normal_load,\n"
         "                  len(separation.statistical_newton_counted.signatures),\n"
         "                  len(greenwood.gw_half_integer_pair.signatures)]))\n")
-    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                          timeout=300, env={**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)})
-    assert done.returncode == 0, done.stderr
-    separation, load, normal_load, newton, pair = json.loads(done.stdout.splitlines()[-1])
+    separation, load, normal_load, newton, pair = in_a_fresh_process(code, tmp_path)
     assert abs(load - normal_load) <= kernels.RELATIVE_TOLERANCE * normal_load
     assert math.isfinite(separation)
     assert (newton, pair) == (0, 0)
@@ -150,9 +155,6 @@ def test_a_run_compiles_no_force_kernel_with_or_without_a_spring(tmp_path):
         "sprung = polind.simulate(model.with_params(compliance={'stiffness': 1e5}), t, x).force\n"
         "print(json.dumps([float(plain[0]), float(plain[-1]), float(sprung[-1]),\n"
         "                  len(single.lugre_force.signatures)]))\n")
-    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                          timeout=300, env={**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)})
-    assert done.returncode == 0, done.stderr
-    first, last, sprung_last, compiled = json.loads(done.stdout.splitlines()[-1])
+    first, last, sprung_last, compiled = in_a_fresh_process(code, tmp_path)
     assert math.isfinite(first) and last != 0.0 and sprung_last != 0.0   # real runs
     assert compiled == 0
