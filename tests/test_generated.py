@@ -78,7 +78,7 @@ def test_a_users_functions_get_the_template_compiled_for_them():
     scalars, table, state = np.array([10.0]), np.zeros((1, 1)), np.zeros(1)
     dx = np.array([0.0, 0.05, 0.05, 0.2, -0.1])
     out = np.empty(5)
-    runners.path(scalars, table, state, np.ones(5), dx, dx, dx, np.zeros(0), 0.0, 0, 5, True,
-                 out)
+    out[0] = force(scalars, table, state, dx[0], 0.0)    # sample 0: the caller's (Python's)
+    runners.path(scalars, table, state, np.ones(5), dx, dx, dx, np.zeros(0), 0.0, 0, 5, out)
     np.testing.assert_allclose(out, [0.0, 0.5, 1.0, 1.0, 0.0], atol=1e-15)
     assert polind.StepFunctions(step, force, tangent).runner_module() is runners

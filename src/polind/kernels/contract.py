@@ -70,20 +70,18 @@ def sample_load(loads, constant_load, k):
 
 
 @jit(inline="always")
-def run_steps(step, force, scalars, table, state, step_length, displacement, step_velocity,
-              sample_velocity, loads, constant_load, lo, hi, first, out_force):
-    """Run a model over the samples ``lo .. hi - 1`` of a prescribed path.
+def run_steps(step, scalars, table, state, step_length, displacement, step_velocity,
+              sample_velocity, loads, constant_load, lo, hi, out_force):
+    """Run a model over the samples ``lo + 1 .. hi - 1`` of a prescribed path.
 
     Arrays are indexed by the sample a step ends at (entry ``k`` of
     ``step_length``, ``displacement`` and ``step_velocity`` is the step from
-    sample ``k - 1`` to ``k``).  With ``first`` the force at sample ``lo`` is
-    the model's force at its state; otherwise sample ``lo`` is taken as
-    already computed (a chunk that continues the previous one).  ``loads``
-    holds the normal load at every sample, or is empty for ``constant_load``.
+    sample ``k - 1`` to ``k``).  Sample ``lo`` is taken as done: the first
+    sample of a run is Python's (:meth:`polind.models.kernel.StepKernel.run`,
+    the model's ``force`` at its state), else the last of the previous
+    chunk.  ``loads`` holds the normal load at every sample, or is empty for
+    ``constant_load``.
     """
-    if first:
-        out_force[lo] = force(scalars, table, state, sample_velocity[lo],
-                              sample_load(loads, constant_load, lo))
     for k in range(lo + 1, hi):
         out_force[k] = step(scalars, table, state, step_length[k], displacement[k],
                             step_velocity[k], sample_velocity[k],

@@ -91,9 +91,10 @@ def first_force(force_function, mount, scalars, table, state, sample_velocity, n
 
     Behind a series spring it is the spring's force (0 at rest); else the
     model's ``force`` at ``sample_velocity``, scaled by the load.  ``mount``
-    may be None (nothing around the contact).  The first sample of a mounted
-    path (the runners' ``mounted_path`` takes the samples
-    after it).
+    may be None (nothing around the contact).  The first sample of every
+    prescribed path (the runners' ``path`` and ``mounted_path`` take the
+    samples after it); the force is
+    :func:`polind.kernels.interpreted.call_once`'s.
     """
     if mount is not None and mount[STIFFNESS] < math.inf:
         return float(mount[SPRING_FORCE])

@@ -135,14 +135,19 @@ class StepKernel:
 
     def run(self, step, displacement, step_velocity, sample_velocity, loads, lo, hi, first,
             out_force):
-        """Run the path arrays (indexed by the sample a step ends at) over ``lo .. hi - 1``."""
+        """Run the path arrays (indexed by the sample a step ends at) over ``lo .. hi - 1``.
+
+        With ``first``, sample ``lo`` starts the run: its force is
+        :meth:`first_force`'s, in Python, and the compiled path takes the
+        samples after it (as it does after a chunk that continues a run).
+        """
+        from polind.kernels.contract import sample_load
+
         loads = NO_LOADS if loads is None else loads
+        if first:
+            out_force[lo] = self.first_force(sample_velocity[lo],
+                                             sample_load.py_func(loads, self.normal_load, lo))
         if self.mount is not None:
-            if first:
-                # The first sample in Python (the spring's force, or the model's force
-                # on a rigid mount): the compiled mounted path takes the samples after it.
-                out_force[lo] = self.first_force(
-                    sample_velocity[lo], loads[lo] if loads.shape[0] > 0 else None)
             self.runners.mounted_path(self.mount, self.scalars, self.table, self.state,
                                       self.scratch, step, displacement, step_velocity,
                                       sample_velocity, loads, self.normal_load, lo, hi,
@@ -150,7 +155,7 @@ class StepKernel:
         else:
             self.runners.path(self.scalars, self.table, self.state, step, displacement,
                               step_velocity, sample_velocity, loads, self.normal_load, lo, hi,
-                              first, out_force)
+                              out_force)
 
     def run_motion(self, source_t, source_motion, t, motion, by_velocity, start_position,
                    start_velocity, continuing, position, velocity, loads, lo, hi, first,

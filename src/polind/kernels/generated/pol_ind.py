@@ -30,10 +30,10 @@ from polind.kernels.series import mounted_commit  # noqa: E402
 
 @jit
 def path(scalars, table, state, step, displacement, step_velocity, sample_velocity, loads,
-         constant_load, lo, hi, first, out_force):
-    """:func:`polind.kernels.contract.run_steps` with the model's functions."""
-    run_steps(model_path_step, model_force, scalars, table, state, step, displacement,
-              step_velocity, sample_velocity, loads, constant_load, lo, hi, first, out_force)
+         constant_load, lo, hi, out_force):
+    """:func:`polind.kernels.contract.run_steps` with the model's path step."""
+    run_steps(model_path_step, scalars, table, state, step, displacement, step_velocity,
+              sample_velocity, loads, constant_load, lo, hi, out_force)
 
 
 @jit
