@@ -21,8 +21,9 @@ so has an intrinsic (``select``, :mod:`polind.kernels.select`).
 Python checks what numba does not: a division by zero or an integer
 conversion of NaN raises instead of giving ``inf`` or an undefined
 integer.  NumPy's floating-point warnings are off during a call (numba's
-arithmetic is IEEE's and warns of nothing: an overflow is ``inf``).  Interpret only kernels whose inputs are checked before (the
-kernels interpreted in polind say so where they are used).
+arithmetic is IEEE's and warns of nothing: an overflow is ``inf``).
+Interpret only kernels whose inputs are checked before (the kernels
+interpreted in polind say so where they are used).
 """
 
 from __future__ import annotations
@@ -39,8 +40,10 @@ _TWINS: dict = {}
 
 
 def register_twin(kernel, function):
-    """Run ``function`` wherever :func:`interpreted` meets ``kernel`` (a kernel or an intrinsic
-    Python cannot run)."""
+    """Run ``function`` wherever :func:`interpreted` meets ``kernel``.
+
+    ``kernel``: a kernel or an intrinsic Python cannot run.
+    """
     _TWINS[kernel] = function
     _CACHE.pop(kernel, None)
     _ROOTS.pop(kernel, None)
@@ -95,11 +98,10 @@ _CALLED: set = set()
 
 
 def _interpreted(kernel, root):
-    if kernel in _TWINS:
+    if _is_twinned(kernel):
         return _TWINS[kernel]
-    key = kernel
-    if key in _CACHE:
-        return _CACHE[key]
+    if kernel in _CACHE:
+        return _CACHE[kernel]
     options = kernel.targetoptions
     if (root or options.get("inline", "never") == "never") and options.get("fastmath"):
         name = kernel.py_func.__qualname__
@@ -109,15 +111,13 @@ def _interpreted(kernel, root):
     names = dict(function.__globals__)
     for name in function.__code__.co_names:
         value = names.get(name)
-        if isinstance(value, Dispatcher):
+        if isinstance(value, Dispatcher) or _is_twinned(value):
             names[name] = _interpreted(value, root=False)
-        elif _is_twinned(value):
-            names[name] = _TWINS[value]
     result = types.FunctionType(function.__code__, names, function.__name__,
                                 function.__defaults__, function.__closure__)
     result.__doc__ = function.__doc__
     result.__qualname__ = function.__qualname__
-    _CACHE[key] = result
+    _CACHE[kernel] = result
     return result
 
 
