@@ -11,8 +11,9 @@ its kernels there then), so every kernel it needs is compiled — best of
 *warm*, best of ``warm_runs`` runs with the first cold run's directory, so
 every kernel is loaded.  Best of two for both (the defaults): on a shared
 machine other work only ever adds to a process's time, and one cold
-process, alone, moved the GMS ratio between 2.7 and 3.5 in one session.  Each row counts the files numba wrote into the empty directory
-(more than none: the cold run compiled) and the files the warm runs added or
+process, alone, moved the GMS ratio between 2.7 and 3.5 in one session.
+Each row counts the files numba wrote into the empty directory (more than
+none: the cold run compiled) and the files the warm runs added or
 changed (none: every kernel the case needs is kept on disk, the runners of a
 mounted model included; only the runners of a model registered from outside
 polind, :func:`polind.kernels.generate.runners_for`, are compiled in every
@@ -234,7 +235,7 @@ def run_process(arguments, cache_dir, timeout=DEFAULT_TIMEOUT):
     return seconds
 
 
-def run_case(name, arguments, cache_dir, warm_runs=2, timeout=DEFAULT_TIMEOUT, cold_runs=1):
+def run_case(name, arguments, cache_dir, warm_runs=2, timeout=DEFAULT_TIMEOUT, cold_runs=2):
     """One case cold (best of ``cold_runs``, each in an empty cache), then warm (best of ``warm_runs``).
 
     The first cold run fills ``cache_dir``, which the warm runs then load; each
