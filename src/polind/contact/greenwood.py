@@ -90,13 +90,7 @@ def half_integer_pair(s: float) -> tuple[float, float]:
         ``F_{1/2}(s)`` and ``F_{3/2}(s)``; ``(0, 0)`` at ``+inf``,
         ``(inf, inf)`` at ``-inf``, NaN for NaN.
     """
-    return _python_pair()(float(s), _addresses())
-
-
-@lru_cache(maxsize=1)
-def _python_pair():
-    """:func:`~polind.kernels.greenwood.gw_half_integer_pair` run by Python."""
-    return interpreted(gw_half_integer_pair)
+    return interpreted(gw_half_integer_pair)(float(s), _addresses())
 
 
 def _upper_tail(s):
