@@ -33,7 +33,7 @@ LAYERS = (
     ("demo", "report", "bench", "topography_figure"),
     ("phenomena", "sweeps"),
     ("identification",),
-    ("control", "fmu", "batch", "stepper", "dynamics", "simulation"),
+    ("structures", "control", "fmu", "batch", "stepper", "dynamics", "simulation"),
     ("models",),
     ("io", "datasets"),
     ("contact", "topography"),

@@ -21,7 +21,7 @@ __all__ = ["InputError", "ValidityWarning", "MODEL_TYPES", "FrictionModel", "Sta
            "BodyBatch", "load_model", "model_from_dict", "save_model", "simulate", "System", "SystemResult",
            "load_system", "simulate_system", "identify", "FitResult",
            "identify_maxwell_slip", "identify_gms", "identify_stribeck", "compare", "Comparison",
-           "sweep", "SweepSummary"]
+           "sweep", "SweepSummary", "Structure", "StructureResult", "simulate_structure"]
 __version__ = "0.1.0"
 
 # Every export but InputError is imported on first use (PEP 562), so that
@@ -43,7 +43,9 @@ _LAZY = {"MODEL_TYPES": "polind.models", "FrictionModel": "polind.models",
          "Stepper": "polind.stepper", "Body": "polind.stepper", "BodyBatch": "polind.batch",
          "System": "polind.dynamics", "SystemResult": "polind.dynamics",
          "load_system": "polind.dynamics", "simulate_system": "polind.dynamics",
-         "sweep": "polind.sweeps", "SweepSummary": "polind.sweeps"}
+         "sweep": "polind.sweeps", "SweepSummary": "polind.sweeps",
+         "Structure": "polind.structures", "StructureResult": "polind.structures",
+         "simulate_structure": "polind.structures"}
 
 
 def __getattr__(name):

@@ -184,9 +184,15 @@ def warn_ignored_load(model) -> None:
                   stacklevel=3)
 
 
-def _time(t):
-    """The sample times: finite, at least 2, strictly increasing (one compiled pass)."""
+def sample_times(t):
+    """The sample times as a float64 copy: finite, at least 2, strictly increasing.
+
+    InputError naming the first bad sample otherwise (every driver's check of ``t``).
+    """
     return _check_time(_converted("t", t))
+
+
+_time = sample_times
 
 
 def _check_time(t):

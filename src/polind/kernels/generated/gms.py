@@ -26,6 +26,7 @@ from polind.kernels.mount import (CONTACT_POSITION, CONTACT_VELOCITY, FORCE_SCAL
                                   MEMORYLESS, REST_CAPACITY, SPRING_FORCE, STIFFNESS,
                                   contact_step, load_ratio, scaled_force)
 from polind.kernels.series import mounted_commit  # noqa: E402
+from polind.kernels.structure import integrate_structure_with  # noqa: E402
 
 
 @jit
@@ -298,3 +299,15 @@ def mounted_body_batch(memoryless, rest_capacity, force_scale, mounts, scalars, 
 def mounted_body_buffer(buffer, normal_load, applied_force):
     """:func:`body_buffer` of the mounted contact."""
     return body_sample(mounted_body_step, model_force, buffer, normal_load, applied_force)
+
+
+@jit
+def structure(arguments):
+    """:func:`polind.kernels.structure.integrate_structure_with` of contacts with nothing around them."""
+    integrate_structure_with(trial, commit, model_tangent, arguments)
+
+
+@jit
+def mounted_structure(arguments):
+    """:func:`polind.kernels.structure.integrate_structure_with` of mounted contacts."""
+    integrate_structure_with(mounted_body_trial, mounted_body_commit, model_tangent, arguments)
