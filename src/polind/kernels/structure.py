@@ -51,8 +51,11 @@ by the applied force, with the arithmetic of
 which is the mounted one here).
 
 Nothing here knows which model a contact runs: the contact enters through
-its runners' mounted trial and commit (:mod:`polind.kernels.template`), and
-every contact of one structure shares one model family's runners.
+its runners' trial, commit and scalar solve (:mod:`polind.kernels.template`:
+``structure`` and ``mounted_structure``), and every contact of one structure
+shares one model family's runners.  Everything that does not call the model
+is compiled once, here, for every model; the loop that calls it is inlined
+into each model's runners.
 """
 
 from __future__ import annotations
@@ -62,7 +65,7 @@ import math
 import numpy as np
 
 from polind.kernels import jit
-from polind.kernels.dynamics import BDF2, RTOL, solve_step
+from polind.kernels.dynamics import BDF2
 
 #: Newton iterations over several contacts before the sweeps take over.
 NEWTON_ITERATIONS = 60
@@ -88,24 +91,23 @@ def structure_terms(second_order, mass, damping, stiffness, step, applied, posit
     """
     n = matrix.shape[0]
     for i in range(n):
-        if second_order:
-            total = applied[i]
-            for j in range(n):
-                matrix[i, j] = 2.25 * mass[i, j] / step + 1.5 * damping[i, j] + stiffness[i, j] * step
+        total = applied[i]
+        for j in range(n):
+            if second_order:
+                matrix[i, j] = 2.25 * mass[i, j] / step + 1.5 * damping[i, j] \
+                    + stiffness[i, j] * step
                 total += (mass[i, j] / step * (0.75 * previous_step_velocity[j]
                                               + 2.0 * velocity[j] - 0.5 * previous_velocity[j])
                           + 0.5 * damping[i, j] * previous_step_velocity[j]
                           - stiffness[i, j] * position[j])
-        else:
-            total = applied[i]
-            for j in range(n):
+            else:
                 matrix[i, j] = mass[i, j] / step + damping[i, j] + stiffness[i, j] * step
                 total += mass[i, j] / step * velocity[j] - stiffness[i, j] * position[j]
         known[i] = total
     return 1.5 if second_order else 1.0
 
 
-@jit(inline="always")
+@jit
 def relative(contacts, c, values):
     """``b_c values``: the contact's relative part of a vector over the coordinates."""
     first = values[contacts[c, FIRST]]
@@ -115,7 +117,7 @@ def relative(contacts, c, values):
     return contacts[c, SIGN] * first
 
 
-@jit(inline="always")
+@jit
 def contact_scale(contacts, c, position):
     """The coordinate whose rounding limits the contact's motion (the larger), signed as ``u``."""
     first = position[contacts[c, FIRST]]
@@ -126,300 +128,7 @@ def contact_scale(contacts, c, position):
     return contacts[c, SIGN] * first
 
 
-@jit(inline="always")
-def integrate_structure_with(trial, commit, tangent, arguments):
-    """Integrate a structure over the samples ``start .. stop - 1`` (the module notes).
-
-    ``arguments`` is the tuple ``(memoryless, rest_capacity, force_scale,
-    mounts, scalars, scalar_bounds, tables, table_bounds, table_rows,
-    states, state_bounds, loads, contacts, mass, damping, stiffness, t,
-    applied, method, q, dq, forces, carry, held_count, start, stop)``:
-
-    * per contact ``c``: ``memoryless[c]`` (1.0 for a set-valued contact),
-      ``rest_capacity[c]``, ``force_scale[c]``, ``mounts[c]`` (its mount,
-      advanced in place), its scalars ``scalars[scalar_bounds[c]:scalar_bounds[c + 1]]``,
-      its table (``table_rows`` rows, stored flat between ``table_bounds``),
-      its state (between ``state_bounds``, advanced in place), its normal
-      load ``loads[c]`` and its row of ``contacts`` (:data:`FIRST`,
-      :data:`SECOND`, :data:`SIGN`);
-    * ``mass``, ``damping``, ``stiffness``: ``(n, n)``; ``t`` the sample
-      times; ``applied`` ``(len(t), n)``, the force at each sample (the step
-      ending at sample ``k`` takes ``applied[k]``);
-    * ``q``, ``dq`` ``(len(t), n)`` and ``forces`` ``(len(t), m)``: filled
-      from sample ``start`` on (sample ``start - 1`` is given);
-    * ``carry``: ``n`` previous step velocities, ``m`` previous contact step
-      velocities, and whether a BDF2 history exists (1.0 or 0.0);
-      ``held_count[0]`` counts the steps whose Gauss–Seidel sweeps did not
-      converge (they keep the best sweep).
-    """
-    (memoryless, rest_capacity, force_scale, mounts, scalars, scalar_bounds, tables,
-     table_bounds, table_rows, states, state_bounds, loads, contacts, mass, damping, stiffness,
-     t, applied, method, q, dq, forces, carry, held_count, start, stop) = arguments
-    # ``trial`` and ``commit``: the runners' mounted ones; ``tangent``: the model's (a
-    # set-valued contact's at rest, :func:`polind.kernels.dynamics.solve_step`).
-    n = mass.shape[0]
-    m = contacts.shape[0]
-    largest = 0
-    for c in range(m):
-        size = state_bounds[c + 1] - state_bounds[c]
-        if size > largest:
-            largest = size
-    scratch = np.empty(2 * largest + 2)
-    matrix = np.empty((n, n))
-    known = np.empty(n)
-    factor = np.empty((n, n))
-    columns = np.empty((n, m))
-    column = np.empty(n)
-    free = np.empty(n)
-    work = np.empty(n)
-    couple = np.empty((m, m))
-    free_contact = np.empty(m)
-    tangent_contact = np.empty(m)
-    residual_contact = np.empty(m)
-    last_velocity = np.empty(m)
-    direction = np.empty(m)
-    jacobian = np.empty((m, m))
-    factored_step = math.nan
-    factored_order = False
-    velocity_contact = np.empty(m)
-    force_contact = np.empty(m)
-    held = np.zeros(m, dtype=np.bool_)
-    step_velocity = np.empty(n)
-    new_position = np.empty(n)
-    new_velocity = np.empty(n)
-    offset = np.empty(n)
-    previous_step = carry[:n].copy()
-    previous_contact = carry[n:n + m].copy()
-    history = carry[n + m] != 0.0
-    single = n == 1 and m == 1
-    for k in range(start, stop):
-        step = t[k] - t[k - 1]
-        second_order = method == BDF2 and history
-        for i in range(n):
-            offset[i] = -0.5 * previous_step[i] if second_order else 0.0
-        previous = dq[k - 2] if k >= 2 else dq[k - 1]
-        slope = structure_terms(second_order, mass, damping, stiffness, step, applied[k],
-                                q[k - 1], dq[k - 1], previous, previous_step, matrix, known)
-        # The contacts' coupling G = B A^-1 B^T and free velocities w0 = B A^-1 r (the
-        # module notes); A's factor, the columns A^-1 b_c^T and G are kept while the step
-        # length and the scheme stay the same.
-        if not single:
-            if step != factored_step or second_order != factored_order:
-                factored_step = step
-                factored_order = second_order
-                cholesky(matrix, factor)
-                for c in range(m):
-                    for i in range(n):
-                        column[i] = 0.0
-                    column[contacts[c, FIRST]] = 1.0 if contacts[c, SECOND] >= 0 \
-                        else float(contacts[c, SIGN])
-                    if contacts[c, SECOND] >= 0:
-                        column[contacts[c, SECOND]] = -1.0
-                    cholesky_solve(factor, column, work)
-                    for i in range(n):
-                        columns[i, c] = column[i]
-                for c in range(m):
-                    for d in range(m):
-                        couple[c, d] = relative(contacts, c, columns[:, d])
-            for i in range(n):
-                free[i] = known[i]
-            cholesky_solve(factor, free, work)
-            for c in range(m):
-                free_contact[c] = relative(contacts, c, free)
-        for c in range(m):
-            velocity_contact[c] = previous_contact[c]
-            force_contact[c] = forces[k - 1, c]
-            held[c] = False
-        converged = False
-        if m > 1:
-            set_valued = False
-            for c in range(m):
-                set_valued = set_valued or memoryless[c] != 0.0
-            if not set_valued:
-                # Newton on r(w) = w - w0 + G F(w) with each contact's own tangent,
-                # halving a step that does not lower the residual.
-                last_merit = math.inf
-                fraction = 1.0
-                for iteration in range(NEWTON_ITERATIONS):
-                    for c in range(m):
-                        c_scalars, c_table, c_state = contact_arrays(
-                            scalars, scalar_bounds, tables, table_bounds, table_rows, states,
-                            state_bounds, c)
-                        contact_offset = -0.5 * previous_contact[c] if second_order else 0.0
-                        force, slope_c, _, _ = trial(bool(0), mounts[c], c_scalars, c_table,
-                                                     c_state, scratch, velocity_contact[c],
-                                                     step, slope, contact_offset, loads[c],
-                                                     bool(0))
-                        force_contact[c] = force
-                        tangent_contact[c] = max(slope_c, 0.0) if slope_c == slope_c else 0.0
-                    merit, within = residuals(couple, free_contact, velocity_contact,
-                                              force_contact, force_scale, contacts, q[k - 1],
-                                              step, residual_contact)
-                    if within:
-                        converged = True
-                        break
-                    if merit >= last_merit and fraction > 1e-6:
-                        fraction *= 0.5
-                        for c in range(m):
-                            velocity_contact[c] = last_velocity[c] + fraction * direction[c]
-                        continue
-                    last_merit = merit
-                    fraction = 1.0
-                    for c in range(m):
-                        for d in range(m):
-                            jacobian[c, d] = couple[c, d] * tangent_contact[d]
-                        jacobian[c, c] += 1.0
-                        direction[c] = -residual_contact[c]
-                        last_velocity[c] = velocity_contact[c]
-                    lu_solve(jacobian, direction)
-                    for c in range(m):
-                        velocity_contact[c] = last_velocity[c] + direction[c]
-                if not converged:
-                    for c in range(m):          # start the sweeps from the best Newton point
-                        if last_merit < math.inf:
-                            velocity_contact[c] = last_velocity[c]
-        if not converged:
-            # One contact: its scalar equation, by the body's solver.  Several: nonlinear
-            # block Gauss-Seidel, each contact's scalar equation with the others held (the
-            # exact stick of set-valued contacts included).
-            for sweep in range(1 if m == 1 else MAX_SWEEPS):
-                for c in range(m):
-                    if single:
-                        own_inertia = matrix[0, 0]
-                        own = float(contacts[0, SIGN]) * known[0]
-                    else:
-                        own_inertia = 1.0 / couple[c, c]
-                        own = free_contact[c]
-                        for d in range(m):
-                            if d != c:
-                                own -= couple[c, d] * force_contact[d]
-                        own *= own_inertia
-                    c_scalars, c_table, c_state = contact_arrays(
-                        scalars, scalar_bounds, tables, table_bounds, table_rows, states,
-                        state_bounds, c)
-                    is_memoryless = memoryless[c] != 0.0
-                    contact_offset = -0.5 * previous_contact[c] if second_order else 0.0
-                    velocity, stuck, force, _ = solve_step(
-                        trial, tangent, is_memoryless, rest_capacity[c], force_scale[c],
-                        mounts[c], c_scalars, c_table, c_state, scratch, own_inertia, own,
-                        velocity_contact[c], step, contact_scale(contacts, c, q[k - 1]),
-                        slope, contact_offset, loads[c], False)
-                    held[c] = stuck
-                    if stuck:
-                        force = own
-                    elif force != force:
-                        force, _, _, _ = trial(is_memoryless, mounts[c], c_scalars,
-                                               c_table, c_state, scratch, velocity, step,
-                                               slope, contact_offset, loads[c], bool(0))
-                    velocity_contact[c] = velocity
-                    force_contact[c] = force
-                if m == 1:
-                    converged = True
-                    break
-                merit, within = residuals(couple, free_contact, velocity_contact,
-                                          force_contact, force_scale, contacts, q[k - 1],
-                                          step, residual_contact)
-                if within:
-                    converged = True
-                    break
-        if not converged:
-            held_count[0] += 1
-        # The coordinates: W = A^-1 (r - B^T F), rounded.
-        if single:
-            step_velocity[0] = contacts[0, SIGN] * velocity_contact[0]
-        else:
-            for i in range(n):
-                total = free[i]
-                for c in range(m):
-                    total -= columns[i, c] * force_contact[c]
-                step_velocity[i] = total
-        any_held = False
-        for c in range(m):
-            any_held = any_held or held[c]
-        for i in range(n):
-            new_position[i], displacement = rounded(q[k - 1, i], step, step_velocity[i])
-            step_velocity[i] = displacement / step
-            if any_held:
-                new_velocity[i] = step_velocity[i]
-            else:
-                new_velocity[i] = slope * step_velocity[i] + offset[i]
-        for c in range(m):
-            if held[c]:
-                forces[k, c] = force_contact[c]
-                previous_contact[c] = 0.0
-                continue
-            c_scalars = scalars[scalar_bounds[c]:scalar_bounds[c + 1]]
-            c_table = tables[table_bounds[c]:table_bounds[c + 1]].reshape(
-                (table_rows, (table_bounds[c + 1] - table_bounds[c]) // table_rows))
-            c_state = states[state_bounds[c]:state_bounds[c + 1]]
-            displacement = relative(contacts, c, new_position) - relative(contacts, c, q[k - 1])
-            if single:
-                displacement = contacts[0, SIGN] * (new_position[0] - q[k - 1, 0])
-            contact_velocity = displacement / step
-            sample_velocity = contact_velocity if memoryless[c] != 0.0 \
-                else relative(contacts, c, new_velocity)
-            forces[k, c] = commit(mounts[c], c_scalars, c_table, c_state, scratch, step,
-                                  displacement, contact_velocity, sample_velocity, loads[c])
-            previous_contact[c] = contact_velocity
-        for i in range(n):
-            q[k, i] = new_position[i]
-            dq[k, i] = new_velocity[i]
-            previous_step[i] = step_velocity[i]
-        history = not any_held
-    carry[:n] = previous_step
-    carry[n:n + m] = previous_contact
-    carry[n + m] = 1.0 if history else 0.0
-
-
-@jit(fastmath=False)
-def rounded(position, step, velocity):
-    """``q + h w`` rounded, and the increment it really is (:func:`polind.kernels.dynamics.rounded_motion`)."""
-    new_position = position + step * velocity
-    return new_position, new_position - position
-
-
-@jit(inline="always")
-def cholesky(matrix, factor):
-    """The lower Cholesky factor of the symmetric positive-definite ``matrix``, into ``factor``.
-
-    The structure's matrices are a few coordinates and contacts across:
-    NumPy's LAPACK solvers inside a kernel cost numba some 15 s to compile
-    for nothing a small dense factorization needs.  A non-positive pivot
-    (an indefinite ``K``) leaves NaN, which the caller's residual shows.
-    """
-    n = matrix.shape[0]
-    for j in range(n):
-        total = matrix[j, j]
-        for p in range(j):
-            total -= factor[j, p] * factor[j, p]
-        pivot = math.sqrt(total) if total > 0.0 else math.nan
-        factor[j, j] = pivot
-        for i in range(j + 1, n):
-            value = matrix[i, j]
-            for p in range(j):
-                value -= factor[i, p] * factor[j, p]
-            factor[i, j] = value / pivot
-        for i in range(j):
-            factor[i, j] = 0.0
-
-
-@jit(inline="always")
-def cholesky_solve(factor, values, work):
-    """Solve ``L L^T x = values`` in place (``factor`` from :func:`cholesky`)."""
-    n = factor.shape[0]
-    for i in range(n):
-        total = values[i]
-        for p in range(i):
-            total -= factor[i, p] * work[p]
-        work[i] = total / factor[i, i]
-    for i in range(n - 1, -1, -1):
-        total = work[i]
-        for p in range(i + 1, n):
-            total -= factor[p, i] * values[p]
-        values[i] = total / factor[i, i]
-
-
-@jit(inline="always")
+@jit
 def contact_arrays(scalars, scalar_bounds, tables, table_bounds, table_rows, states,
                    state_bounds, c):
     """Contact ``c``'s scalars, table and state: views of the packed arrays."""
@@ -429,7 +138,54 @@ def contact_arrays(scalars, scalar_bounds, tables, table_bounds, table_rows, sta
             states[state_bounds[c]:state_bounds[c + 1]])
 
 
-@jit(inline="always")
+@jit
+def condense(refactor, matrix, known, contacts, factor, columns, couple, free, free_contact,
+             work):
+    """``free = A^-1 r`` and ``free_contact = w0 = B A^-1 r``; with ``refactor`` first A's factor,
+    ``columns = A^-1 B^T`` and ``couple = G = B A^-1 B^T`` (the module notes)."""
+    n = matrix.shape[0]
+    m = contacts.shape[0]
+    if refactor:
+        cholesky(matrix, factor)
+        for c in range(m):
+            for i in range(n):
+                free[i] = 0.0
+            if contacts[c, SECOND] >= 0:
+                free[contacts[c, FIRST]] = 1.0
+                free[contacts[c, SECOND]] = -1.0
+            else:
+                free[contacts[c, FIRST]] = float(contacts[c, SIGN])
+            cholesky_solve(factor, free, work)
+            for i in range(n):
+                columns[i, c] = free[i]
+        for c in range(m):
+            for d in range(m):
+                couple[c, d] = relative(contacts, c, columns[:, d])
+    for i in range(n):
+        free[i] = known[i]
+    cholesky_solve(factor, free, work)
+    for c in range(m):
+        free_contact[c] = relative(contacts, c, free)
+
+
+@jit
+def own_equation(single, c, matrix, known, contacts, couple, free_contact, force_contact):
+    """``(inertia, known)`` of contact ``c``'s scalar equation, the other contacts' forces held.
+
+    ``(1 / G_cc) w_c + F_c(w_c) = (w0_c - sum_{d != c} G_cd F_d) / G_cc``; for
+    one coordinate and one contact the body's own ``A`` and ``r``.
+    """
+    if single:
+        return matrix[0, 0], float(contacts[0, SIGN]) * known[0]
+    own = free_contact[c]
+    for d in range(contacts.shape[0]):
+        if d != c:
+            own -= couple[c, d] * force_contact[d]
+    inertia = 1.0 / couple[c, c]
+    return inertia, own * inertia
+
+
+@jit
 def residuals(couple, free_contact, velocity_contact, force_contact, force_scale, contacts,
               position, step, out):
     """``r = w - w0 + G F`` into ``out``; ``(sum of (r_c / G_cc)^2, every r_c within tolerance)``.
@@ -458,7 +214,287 @@ def residuals(couple, free_contact, velocity_contact, force_contact, force_scale
     return merit, within
 
 
+@jit
+def newton_step(couple, tangent_contact, residual_contact, velocity_contact, last_velocity,
+                direction, jacobian):
+    """A Newton step on ``r(w)``: ``(I + G diag(dF/dw)) d = -r``, ``w <- w + d`` (``last_velocity``: ``w``)."""
+    m = couple.shape[0]
+    for c in range(m):
+        for d in range(m):
+            jacobian[c, d] = couple[c, d] * tangent_contact[d]
+        jacobian[c, c] += 1.0
+        direction[c] = -residual_contact[c]
+        last_velocity[c] = velocity_contact[c]
+    lu_solve(jacobian, direction)
+    for c in range(m):
+        velocity_contact[c] = last_velocity[c] + direction[c]
+
+
+@jit
+def advance_coordinates(single, contacts, position, step, velocity_contact, free, columns,
+                        force_contact, any_held, slope, offset, new_position, step_velocity,
+                        new_velocity):
+    """The coordinates after the step: ``W = A^-1 (r - B^T F)``, rounded; their velocities."""
+    n = position.shape[0]
+    if single:
+        step_velocity[0] = contacts[0, SIGN] * velocity_contact[0]
+    else:
+        for i in range(n):
+            total = free[i]
+            for c in range(contacts.shape[0]):
+                total -= columns[i, c] * force_contact[c]
+            step_velocity[i] = total
+    for i in range(n):
+        new_position[i], displacement = rounded(position[i], step, step_velocity[i])
+        step_velocity[i] = displacement / step
+        if any_held:
+            new_velocity[i] = step_velocity[i]
+        else:
+            new_velocity[i] = slope * step_velocity[i] + offset[i]
+
+
 @jit(inline="always")
+def integrate_structure_with(trial, commit, solve, arguments):
+    """Integrate a structure over the samples ``start .. stop - 1`` (the module notes).
+
+    ``trial``, ``commit`` and ``solve`` are one model's runners (the mounted
+    ones or not: :mod:`polind.kernels.template`); ``solve`` is
+    :func:`polind.kernels.dynamics.solve_step` with the trial bound.
+    ``arguments`` is the tuple ``(memoryless, rest_capacity, force_scale,
+    mounts, scalars, scalar_bounds, tables, table_bounds, table_rows,
+    states, state_bounds, loads, contacts, mass, damping, stiffness, t,
+    applied, method, q, dq, forces, carry, unconverged, start, stop)``:
+
+    * per contact ``c``: ``memoryless[c]`` (1.0 for a set-valued contact),
+      ``rest_capacity[c]``, ``force_scale[c]``, ``mounts[c]`` (its mount,
+      advanced in place), its scalars, table (``table_rows`` rows) and state
+      (advanced in place), stored flat between their ``bounds``, its normal
+      load ``loads[c]`` and its row of ``contacts`` (:data:`FIRST`,
+      :data:`SECOND`, :data:`SIGN`);
+    * ``mass``, ``damping``, ``stiffness``: ``(n, n)``; ``t`` the sample
+      times; ``applied`` ``(len(t), n)``, the force at each sample (the step
+      ending at sample ``k`` takes ``applied[k]``);
+    * ``q``, ``dq`` ``(len(t), n)`` and ``forces`` ``(len(t), m)``: filled
+      from sample ``start`` on (sample ``start - 1`` is given);
+    * ``carry``: ``n`` previous step velocities, ``m`` previous contact step
+      velocities, and whether a BDF2 history exists (1.0 or 0.0);
+      ``unconverged[0]`` counts the steps whose iteration over several
+      contacts did not converge (they keep the last sweep).
+    """
+    (memoryless, rest_capacity, force_scale, mounts, scalars, scalar_bounds, tables,
+     table_bounds, table_rows, states, state_bounds, loads, contacts, mass, damping, stiffness,
+     t, applied, method, q, dq, forces, carry, unconverged, start, stop) = arguments
+    n = mass.shape[0]
+    m = contacts.shape[0]
+    largest = 0
+    for c in range(m):
+        largest = max(largest, state_bounds[c + 1] - state_bounds[c])
+    scratch = np.empty(2 * largest + 2)
+    matrix = np.empty((n, n))
+    known = np.empty(n)
+    factor = np.empty((n, n))
+    columns = np.empty((n, m))
+    free = np.empty(n)
+    work = np.empty(n)
+    couple = np.empty((m, m))
+    jacobian = np.empty((m, m))
+    free_contact = np.empty(m)
+    tangent_contact = np.empty(m)
+    residual_contact = np.empty(m)
+    last_velocity = np.empty(m)
+    direction = np.empty(m)
+    velocity_contact = np.empty(m)
+    force_contact = np.empty(m)
+    held = np.zeros(m, dtype=np.bool_)
+    step_velocity = np.empty(n)
+    new_position = np.empty(n)
+    new_velocity = np.empty(n)
+    offset = np.empty(n)
+    previous_step = carry[:n].copy()
+    previous_contact = carry[n:n + m].copy()
+    history = carry[n + m] != 0.0
+    single = n == 1 and m == 1
+    set_valued = False
+    for c in range(m):
+        set_valued = set_valued or memoryless[c] != 0.0
+    factored_step = math.nan
+    factored_order = False
+    for k in range(start, stop):
+        step = t[k] - t[k - 1]
+        second_order = method == BDF2 and history
+        for i in range(n):
+            offset[i] = -0.5 * previous_step[i] if second_order else 0.0
+        previous = dq[k - 2] if k >= 2 else dq[k - 1]
+        slope = structure_terms(second_order, mass, damping, stiffness, step, applied[k],
+                                q[k - 1], dq[k - 1], previous, previous_step, matrix, known)
+        if not single:
+            # A's factor, A^-1 B^T and G are kept while the step and the scheme stay.
+            refactor = step != factored_step or second_order != factored_order
+            condense(refactor, matrix, known, contacts, factor, columns, couple, free,
+                     free_contact, work)
+            factored_step = step
+            factored_order = second_order
+        for c in range(m):
+            velocity_contact[c] = previous_contact[c]
+            force_contact[c] = forces[k - 1, c]
+            held[c] = False
+        converged = False
+        if m > 1 and not set_valued:
+            # Newton on r(w) = w - w0 + G F(w) with each contact's own tangent, halving
+            # a step that does not lower the residual.
+            last_merit = math.inf
+            fraction = 1.0
+            for iteration in range(NEWTON_ITERATIONS):
+                for c in range(m):
+                    c_scalars, c_table, c_state = contact_arrays(
+                        scalars, scalar_bounds, tables, table_bounds, table_rows, states,
+                        state_bounds, c)
+                    contact_offset = -0.5 * previous_contact[c] if second_order else 0.0
+                    force, tangent, _, _ = trial(memoryless[c] != 0.0, mounts[c], c_scalars, c_table,
+                                                 c_state, scratch, velocity_contact[c], step,
+                                                 slope, contact_offset, loads[c], bool(0))
+                    force_contact[c] = force
+                    tangent_contact[c] = tangent if tangent > 0.0 else 0.0
+                merit, within = residuals(couple, free_contact, velocity_contact,
+                                          force_contact, force_scale, contacts, q[k - 1], step,
+                                          residual_contact)
+                if within:
+                    converged = True
+                    break
+                if merit >= last_merit and fraction > 1e-6:
+                    fraction *= 0.5
+                    for c in range(m):
+                        velocity_contact[c] = last_velocity[c] + fraction * direction[c]
+                    continue
+                last_merit = merit
+                fraction = 1.0
+                newton_step(couple, tangent_contact, residual_contact, velocity_contact,
+                            last_velocity, direction, jacobian)
+            if not converged and last_merit < math.inf:
+                for c in range(m):          # the sweeps start from the best Newton point
+                    velocity_contact[c] = last_velocity[c]
+        if not converged:
+            # One contact: its scalar equation, by the body's solver.  Several: nonlinear
+            # block Gauss-Seidel, each contact's scalar equation with the others held (the
+            # exact stick of set-valued contacts included).
+            for sweep in range(1 if m == 1 else MAX_SWEEPS):
+                for c in range(m):
+                    own_inertia, own = own_equation(single, c, matrix, known, contacts, couple,
+                                                    free_contact, force_contact)
+                    c_scalars, c_table, c_state = contact_arrays(
+                        scalars, scalar_bounds, tables, table_bounds, table_rows, states,
+                        state_bounds, c)
+                    is_memoryless = memoryless[c] != 0.0
+                    contact_offset = -0.5 * previous_contact[c] if second_order else 0.0
+                    velocity, stuck, force, _ = solve(
+                        is_memoryless, rest_capacity[c], force_scale[c], mounts[c], c_scalars,
+                        c_table, c_state, scratch, own_inertia, own, velocity_contact[c], step,
+                        contact_scale(contacts, c, q[k - 1]), slope, contact_offset, loads[c])
+                    held[c] = stuck
+                    if stuck:
+                        force = own
+                    elif force != force:
+                        force, _, _, _ = trial(is_memoryless, mounts[c], c_scalars, c_table,
+                                               c_state, scratch, velocity, step, slope,
+                                               contact_offset, loads[c], bool(0))
+                    velocity_contact[c] = velocity
+                    force_contact[c] = force
+                if m == 1:
+                    converged = True
+                    break
+                merit, within = residuals(couple, free_contact, velocity_contact,
+                                          force_contact, force_scale, contacts, q[k - 1], step,
+                                          residual_contact)
+                if within:
+                    converged = True
+                    break
+        if not converged:
+            unconverged[0] += 1
+        any_held = False
+        for c in range(m):
+            any_held = any_held or held[c]
+        advance_coordinates(single, contacts, q[k - 1], step, velocity_contact, free, columns,
+                            force_contact, any_held, slope, offset, new_position,
+                            step_velocity, new_velocity)
+        # Each contact along the increment of b_c q the rounded coordinates make.
+        for c in range(m):
+            if held[c]:
+                forces[k, c] = force_contact[c]
+                previous_contact[c] = 0.0
+                continue
+            c_scalars, c_table, c_state = contact_arrays(
+                scalars, scalar_bounds, tables, table_bounds, table_rows, states,
+                state_bounds, c)
+            displacement = relative(contacts, c, new_position) - relative(contacts, c, q[k - 1])
+            if single:
+                displacement = contacts[0, SIGN] * (new_position[0] - q[k - 1, 0])
+            contact_velocity = displacement / step
+            sample_velocity = contact_velocity if memoryless[c] != 0.0 \
+                else relative(contacts, c, new_velocity)
+            forces[k, c] = commit(mounts[c], c_scalars, c_table, c_state, scratch, step,
+                                  displacement, contact_velocity, sample_velocity, loads[c])
+            previous_contact[c] = contact_velocity
+        for i in range(n):
+            q[k, i] = new_position[i]
+            dq[k, i] = new_velocity[i]
+            previous_step[i] = step_velocity[i]
+        history = not any_held
+    for i in range(n):
+        carry[i] = previous_step[i]
+    for c in range(m):
+        carry[n + c] = previous_contact[c]
+    carry[n + m] = 1.0 if history else 0.0
+
+
+@jit(fastmath=False)
+def rounded(position, step, velocity):
+    """``q + h w`` rounded, and the increment it really is (:func:`polind.kernels.dynamics.rounded_motion`)."""
+    new_position = position + step * velocity
+    return new_position, new_position - position
+
+
+@jit
+def cholesky(matrix, factor):
+    """The lower Cholesky factor of the symmetric positive-definite ``matrix``, into ``factor``.
+
+    The structure's matrices are a few coordinates and contacts across:
+    NumPy's LAPACK solvers inside a kernel cost numba some 15 s to compile
+    for nothing a small dense factorization needs.  A non-positive pivot
+    (an indefinite ``K``) leaves NaN, which the caller's residual shows.
+    """
+    n = matrix.shape[0]
+    for j in range(n):
+        total = matrix[j, j]
+        for p in range(j):
+            total -= factor[j, p] * factor[j, p]
+        pivot = math.sqrt(total) if total > 0.0 else math.nan
+        factor[j, j] = pivot
+        for i in range(j + 1, n):
+            value = matrix[i, j]
+            for p in range(j):
+                value -= factor[i, p] * factor[j, p]
+            factor[i, j] = value / pivot
+        for i in range(j):
+            factor[i, j] = 0.0
+
+
+@jit
+def cholesky_solve(factor, values, work):
+    """Solve ``L L^T x = values`` in place (``factor`` from :func:`cholesky`)."""
+    n = factor.shape[0]
+    for i in range(n):
+        total = values[i]
+        for p in range(i):
+            total -= factor[i, p] * work[p]
+        work[i] = total / factor[i, i]
+    for i in range(n - 1, -1, -1):
+        total = work[i]
+        for p in range(i + 1, n):
+            total -= factor[p, i] * values[p]
+        values[i] = total / factor[i, i]
+
+
+@jit
 def lu_solve(matrix, values):
     """Solve ``matrix x = values`` in place, by Gaussian elimination with partial pivoting.
 

@@ -302,12 +302,31 @@ def mounted_body_buffer(buffer, normal_load, applied_force):
 
 
 @jit
+def solve(memoryless, rest_capacity, force_scale, mount, scalars, table, state, scratch,
+          inertia, known, guess, step, position, sample_slope, sample_offset, normal_load):
+    """:func:`polind.kernels.dynamics.solve_step` of the model's :func:`trial`: ``(w, held, F, written)``."""
+    return solve_step(trial, model_tangent, memoryless, rest_capacity, force_scale, mount,
+                      scalars, table, state, scratch, inertia, known, guess, step, position,
+                      sample_slope, sample_offset, normal_load, False)
+
+
+@jit
+def mounted_solve(memoryless, rest_capacity, force_scale, mount, scalars, table, state, scratch,
+                  inertia, known, guess, step, position, sample_slope, sample_offset,
+                  normal_load):
+    """:func:`solve` of the mounted contact's :func:`mounted_body_trial`."""
+    return solve_step(mounted_body_trial, model_tangent, memoryless, rest_capacity, force_scale,
+                      mount, scalars, table, state, scratch, inertia, known, guess, step,
+                      position, sample_slope, sample_offset, normal_load, False)
+
+
+@jit
 def structure(arguments):
     """:func:`polind.kernels.structure.integrate_structure_with` of contacts with nothing around them."""
-    integrate_structure_with(trial, commit, model_tangent, arguments)
+    integrate_structure_with(trial, commit, solve, arguments)
 
 
 @jit
 def mounted_structure(arguments):
     """:func:`polind.kernels.structure.integrate_structure_with` of mounted contacts."""
-    integrate_structure_with(mounted_body_trial, mounted_body_commit, model_tangent, arguments)
+    integrate_structure_with(mounted_body_trial, mounted_body_commit, mounted_solve, arguments)
