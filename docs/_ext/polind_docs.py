@@ -13,6 +13,10 @@ cannot drift from what polind reads and writes):
 ``.. polind-system-keys::``
     The keys of a ``[system]`` file (``polind.dynamics.FILE_KEYS`` and the
     file reader's schema).
+``.. polind-structure-keys::``
+    The keys of a structure file (the declarations of
+    ``polind.structures.files``: ``STRUCTURE_KEYS``, ``CONTACT_KEYS``,
+    ``RUN_KEYS``, ``FORCE_KEYS``).
 ``.. polind-sweep-keys::`` and ``.. polind-sweep-metrics::``
     The keys of a ``[sweep]`` table and the metrics of ``polind.sweeps.METRICS``.
 ``.. polind-columns:: motion|data``
@@ -255,6 +259,95 @@ class SystemKeys(SphinxDirective):
         return _parse(self, lines)
 
 
+class StructureKeys(SphinxDirective):
+    """The keys of a structure file, from the declarations of polind.structures.files."""
+
+    WHAT = {
+        ("structure", "mass"): (
+            "kg", "required",
+            "The mass matrix :math:`M`, :math:`n \\times n` (a list of rows): symmetric, "
+            "positive definite. A number for one coordinate. Its size is :math:`n`."),
+        ("structure", "stiffness"): (
+            "N/m", "zeros", "The stiffness matrix :math:`K`, :math:`n \\times n`."),
+        ("structure", "damping"): (
+            "N s/m", "zeros", "The damping matrix :math:`C`, :math:`n \\times n`."),
+        ("structure", "contacts"): (
+            "—", "required",
+            "The contacts, an array of tables ``[[structure.contacts]]``, at least one; "
+            "named ``structure.contacts[0]``, ``structure.contacts[1]``, ... in messages."),
+        ("structure", "run"): (
+            "—", "optional table",
+            "The run of ``polind structure`` (and of ``run.simulate(structure)``): "
+            "``[structure.run]``, below."),
+        ("structure.contacts", "model"): (
+            "—", "required",
+            "The contact's friction model: a model file (relative to the structure file) "
+            "or an inline ``[structure.contacts.model]`` table with the keys of a "
+            "``[model]`` table (:ref:`formats-model-files`; its own file keys relative to "
+            "the structure file). Every contact of one structure shares one model "
+            "family."),
+        ("structure.contacts", "dofs"): (
+            "—", "required",
+            "``[i, j]``: the contact on :math:`u = q_i - q_j` (:math:`-F` on "
+            ":math:`q_i`, :math:`+F` on :math:`q_j`); ``[i]``: on :math:`u = q_i`, "
+            "against the ground. Coordinates from 0 to :math:`n - 1`."),
+        ("structure.run", "kind"): (
+            "—", '``"time"``',
+            'The kind of run: ``"time"``, the one available. ``"frequency_response"`` and '
+            '``"backbone"`` (harmonic balance) are not available yet and are refused, '
+            "as are ``[structure.run.frequency_response]`` and "
+            "``[structure.run.backbone]`` tables."),
+        ("structure.run", "duration"): ("s", "required", "Length of the run, positive."),
+        ("structure.run", "time_step"): (
+            "s", "required",
+            "Output sample spacing and integration step, positive, at most the duration."),
+        ("structure.run", "initial_position"): (
+            "m", "zeros", ":math:`q` at :math:`t = 0`: :math:`n` numbers."),
+        ("structure.run", "initial_velocity"): (
+            "m/s", "zeros", ":math:`\\dot q` at :math:`t = 0`: :math:`n` numbers."),
+        ("structure.run", "method"): (
+            "—", '``"bdf2"``', '``"bdf2"`` (second order) or ``"euler"`` (backward Euler).'),
+        ("structure.run", "force"): (
+            "—", "optional table",
+            "The applied forces ``[structure.run.force]``: "
+            ":math:`f_i(t) = \\text{offset}_i + \\text{amplitude}_i \\sin(2\\pi\\, "
+            "\\text{frequency}\\; t)`, the step that ends at :math:`t_k` taking "
+            ":math:`f(t_k)`. Without it the structure moves from its initial state alone."),
+        ("structure.run.force", "offset"): (
+            "N", "zeros", "Constant part of each coordinate's force: :math:`n` numbers."),
+        ("structure.run.force", "amplitude"): (
+            "N", "zeros",
+            "Amplitude of each coordinate's sine: :math:`n` numbers (0 for a coordinate "
+            "not driven). Needs ``frequency``."),
+        ("structure.run.force", "frequency"): (
+            "Hz", "required with ``amplitude``",
+            "Frequency of the sine, one for every coordinate, non-negative."),
+    }
+
+    def run(self):
+        from polind.structures import files
+
+        source, line = self.get_source_info()
+        rows = []
+        for table, keys in (("structure", files.STRUCTURE_KEYS),
+                            ("structure.contacts", files.CONTACT_KEYS),
+                            ("structure.run", files.RUN_KEYS),
+                            ("structure.run.force", files.FORCE_KEYS)):
+            where = "[[structure.contacts]]" if table == "structure.contacts" \
+                else f"[{table}]"
+            for key in keys:
+                described = self.WHAT.get((table, key))
+                if described is None:
+                    logger.warning(f"the structure file key '{table}.{key}' has no "
+                                   f"description in docs/_ext/polind_docs.py",
+                                   location=(source, line))
+                    described = ("", "", "")
+                unit, default, what = described
+                rows.append([f"``{key}`` in ``{where}``", what, unit, default])
+        return _parse(self, list_table(["key", "what it is", "unit", "default"], rows,
+                                       widths=[26, 52, 8, 14]))
+
+
 class SweepKeys(SphinxDirective):
     """The keys of a [sweep] table."""
 
@@ -403,6 +496,7 @@ API_GROUPS = (
                                        "simulate_system")),
     ("Identification", ("identify", "FitResult", "identify_maxwell_slip", "identify_gms",
                         "identify_stribeck", "compare", "Comparison")),
+    ("Structures", ("Structure", "StructureResult", "simulate_structure", "load_structure")),
     ("Sweeps", ("sweep", "SweepSummary")),
     ("Errors", ("InputError",)),
 )
@@ -412,6 +506,7 @@ SUBPACKAGES = (
     ("polind.topography", "Measured surfaces"),
     ("polind.control", "python-control systems"),
     ("polind.fmu", "FMUs for Modelica tools and Simulink"),
+    ("polind.structures", "Structures with friction contacts"),
     ("polind.sweeps", "Parameter sweeps"),
     ("polind.datasets", "Measured data shipped with polind"),
 )
@@ -460,6 +555,7 @@ MODULES = (
     ("Compiled kernels", ("polind.kernels.contract", "polind.kernels.template",
                           "polind.kernels.generate", "polind.kernels.mount",
                           "polind.kernels.series", "polind.kernels.dynamics",
+                          "polind.kernels.structure",
                           "polind.kernels.buffer",
                           "polind.kernels.elements", "polind.kernels.greenwood",
                           "polind.kernels.separation", "polind.kernels.plastic",
@@ -749,6 +845,7 @@ def setup(app):
     numpydoc_template_once()
     app.add_directive("polind-model-keys", ModelKeys)
     app.add_directive("polind-system-keys", SystemKeys)
+    app.add_directive("polind-structure-keys", StructureKeys)
     app.add_directive("polind-sweep-keys", SweepKeys)
     app.add_directive("polind-sweep-metrics", SweepMetrics)
     app.add_directive("polind-columns", Columns)

@@ -1,4 +1,4 @@
-"""Runs of a model: ``polind simulate``, ``polind dynamics`` and ``polind sweep``."""
+"""Runs: ``polind simulate``, ``polind dynamics``, ``polind structure`` and ``polind sweep``."""
 
 from __future__ import annotations
 
@@ -82,6 +82,79 @@ def dynamics(model_path, system_path, output_path):
     write_samples(output_path, {"t": result.t, "x": result.x, "v": result.v,
                                 "F": result.force, "F_applied": result.applied})
     click.echo(f"wrote {output_path}: {len(result.t)} samples", err=os.fspath(output_path) == "-")
+
+
+@cli.command()
+@click.argument("structure_path", metavar="STRUCTURE.toml", type=file_path())
+@output_option
+@click.option("--plot", "plot_path", default=None, type=file_path(), metavar="PNG",
+              help="Also write a PNG: the coordinates against time, and each contact's "
+                   "friction force against its relative displacement (its hysteresis loop).")
+def structure(structure_path, output_path, plot_path):
+    """A structure: n coordinates (mass, stiffness, damping) with friction contacts.
+
+    STRUCTURE.toml has [structure] (mass, stiffness, damping matrices),
+    [[structure.contacts]] (model: a model file or an inline [model] table;
+    dofs: [i] or [i, j]) and [structure.run] (duration, time_step,
+    initial_position, initial_velocity, method, [structure.run.force]), as
+    the user guide's "Structures" describes.  Writes OUT.csv with the header
+    t,q_0..q_{n-1},dq_0..dq_{n-1},F_0..F_{m-1} (SI units, full float
+    precision; F_c is contact c's friction force, -F_c on its first
+    coordinate); a .parquet OUT is written as Parquet, - to standard output.
+    """
+    from polind import io
+    from polind.structures import load_structure, plot_structure
+    from polind.structures.files import structure_files
+
+    refuse_overwriting_inputs(structure_files(structure_path),
+                              {"--output": output_path, "--plot": plot_path})
+    with blame(structure_path):
+        built, run = load_structure(structure_path)
+        if run is None:
+            raise InputError("no [structure.run] table; expected one with duration and "
+                             "time_step [s] (and optionally [structure.run.force])")
+    steps = len(run.times) - 1
+    with blame(structure_path), progress(total=steps, description="structure",
+                                         unit=" steps") as bar:
+        def advance(done, total):
+            bar.update(done - bar.n)
+
+        result = run.simulate(built, progress=advance)
+    n, m = result.q.shape[1], result.contact_forces.shape[1]
+    columns = {"t": result.t}
+    columns.update({f"q_{i}": result.q[:, i] for i in range(n)})
+    columns.update({f"dq_{i}": result.dq[:, i] for i in range(n)})
+    columns.update({f"F_{c}": result.contact_forces[:, c] for c in range(m)})
+    if plot_path is None:
+        write_samples(output_path, columns)
+    else:
+        # The table and the figure appear together, or neither does.
+        driven = run.frequency > 0.0 and run.amplitude is not None and run.amplitude.any()
+        figure = plot_structure(result, built, None,
+                                last_cycle=1.0 / run.frequency if driven else None,
+                                title=f"{structure_path}: the response")
+        io.write_together({output_path: _table_bytes(output_path, columns),
+                           plot_path: figure})
+    streamed = io.STDOUT in (os.fspath(output_path), os.fspath(plot_path or ""))
+    files = [os.fspath(path) for path in (output_path, plot_path)
+             if path is not None and os.fspath(path) != io.STDOUT]
+    short = f"; {result.unconverged_steps} steps short of the contacts' solver tolerance" \
+        if result.unconverged_steps else ""
+    click.echo(f"wrote {' and '.join(files) or '-'}: {len(result.t)} samples, {n} coordinates, "
+               f"{m} contact{'s' if m != 1 else ''}{short}", err=streamed)
+
+
+def _table_bytes(output_path, columns) -> bytes:
+    """The table ``write_samples`` would write to ``output_path`` (CSV or Parquet), as bytes."""
+    import tempfile
+    from pathlib import Path
+
+    suffix = ".parquet" if Path(os.fspath(output_path)).suffix.lower() == ".parquet" \
+        and os.fspath(output_path) != "-" else ".csv"
+    with tempfile.TemporaryDirectory() as folder:
+        staged = Path(folder) / f"table{suffix}"
+        write_samples(staged, columns)
+        return staged.read_bytes()
 
 
 @cli.command()

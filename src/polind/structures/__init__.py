@@ -1,10 +1,16 @@
 """Structures: many coordinates, friction contacts between them (:ref:`guide-structures`).
 
-:class:`Structure` holds the mass, damping and stiffness matrices and the
-contacts; :func:`simulate_structure` integrates it in time with the
-structure driver of :mod:`polind.kernels.structure`.
+:class:`polind.Structure` holds the mass, damping and stiffness matrices and
+the contacts; :func:`polind.simulate_structure` integrates it in time with the
+structure driver of :mod:`polind.kernels.structure`; :func:`polind.load_structure`
+reads a structure file (:ref:`formats-structure`) into a structure and its
+run (:class:`polind.structures.StructureRun`); :func:`polind.structures.plot_structure`
+draws a result.
 """
 
 from polind.structures.core import Structure, StructureResult, simulate_structure
+from polind.structures.files import StructureRun, load_structure, structure_from_dict
+from polind.structures.plot import plot_structure
 
-__all__ = ["Structure", "StructureResult", "simulate_structure"]
+__all__ = ["Structure", "StructureResult", "StructureRun", "load_structure", "plot_structure",
+           "simulate_structure", "structure_from_dict"]
