@@ -75,9 +75,12 @@ MAX_SWEEPS = 500
 CONTACT_RTOL = 1e-12
 
 # Slots of the contact table ``contacts`` (int64, one row per contact).
-FIRST = 0           # the coordinate with +1 in b_c
-SECOND = 1          # the coordinate with -1 in b_c, or -1 for a contact to the ground
-SIGN = 2            # +1, or -1 for a ground contact on the second slot (u = -q)
+#: Slot: the coordinate with +1 in ``b_c``.
+FIRST = 0
+#: Slot: the coordinate with -1 in ``b_c``, or -1 for a contact to the ground.
+SECOND = 1
+#: Slot: +1 (a ground contact's sign of ``u = SIGN * q[FIRST]``).
+SIGN = 2
 
 
 @jit(fastmath=False)

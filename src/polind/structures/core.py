@@ -58,7 +58,7 @@ def _matrix(name, value, size=None):
     if bad.size:
         i, j = bad[0]
         raise InputError(f"The '{name}' matrix of Structure must be finite. Got "
-                         f"{array[i, j]!r} at [{i}, {j}] instead.")
+                         f"{float(array[i, j])!r} at [{i}, {j}] instead.")
     return array
 
 
@@ -68,7 +68,7 @@ def _symmetric(name, array):
     if asymmetry > 1e-12 * scale:
         i, j = np.unravel_index(np.argmax(np.abs(array - array.T)), array.shape)
         raise InputError(f"The '{name}' matrix of Structure must be symmetric. Got "
-                         f"{array[i, j]!r} at [{i}, {j}] and {array[j, i]!r} at [{j}, {i}] "
+                         f"{float(array[i, j])!r} at [{i}, {j}] and {float(array[j, i])!r} at [{j}, {i}] "
                          f"instead.")
 
 
@@ -253,7 +253,7 @@ def _applied(force, t, n):
     if bad.size:
         k, i = bad[0]
         raise InputError(f"The 'force' of simulate_structure must be finite. Got "
-                         f"{array[k, i]!r} at sample {k}, coordinate {i} instead.")
+                         f"{float(array[k, i])!r} at sample {k}, coordinate {i} instead.")
     return np.ascontiguousarray(array)
 
 
