@@ -1,5 +1,5 @@
 # The commands of the README: `make demo`, `make test` and `make docs`.
-# Each creates .venv if needed and installs the project into it.
+# Each creates .venv if needed, installs the project into it and precompiles its kernels.
 PYTHON ?= python3
 VENV   := .venv
 BIN    := $(VENV)/bin
@@ -15,20 +15,30 @@ BIN    := $(VENV)/bin
 # instead of 0.3 s; a warm `polind simulate` 1.8 s instead of 0.7 s).
 INSTALL := $(BIN)/python -m uv pip install --quiet --compile-bytecode --python $(BIN)/python
 
+# After every install, `polind precompile` compiles each built-in model's kernels for every
+# driver into numba's on-disk cache, in as many processes as there are cores, so that the
+# demo, the tests and every later process load them instead of compiling them.  It runs
+# when the install runs (a fresh .venv, a changed pyproject.toml); a kernel edited since is
+# compiled by the first process that needs it, or by running `.venv/bin/polind precompile`.
+PRECOMPILE := $(BIN)/polind precompile
+
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet "uv>=0.5"
 
 $(VENV)/.installed-run: pyproject.toml | $(BIN)/python
 	$(INSTALL) -e .
+	$(PRECOMPILE)
 	touch $@
 
 $(VENV)/.installed-test: pyproject.toml | $(BIN)/python
 	$(INSTALL) -e ".[test]"
+	$(PRECOMPILE)
 	touch $@ $(VENV)/.installed-run
 
 $(VENV)/.installed-docs: pyproject.toml | $(BIN)/python
 	$(INSTALL) -e ".[docs]"
+	$(PRECOMPILE)
 	touch $@ $(VENV)/.installed-run
 
 demo: $(VENV)/.installed-run

@@ -13,4 +13,7 @@
   1e7-sample CSV;
 * :mod:`polind.bench.processes`: whole ``polind`` processes, cold (an empty
   numba cache) and warm, and the ratios the user waits for.
+* :mod:`polind.bench.precompile`: ``polind precompile``, every built-in model
+  through every driver on a tiny input, so that numba's cache holds every
+  kernel before the first real run.
 """

@@ -21,6 +21,7 @@ The modules, grouped by what the commands do:
 - :mod:`polind.cli.surfaces`: ``surface`` and ``topography``;
 - :mod:`polind.cli.reports`: ``demo`` and ``bench``;
 - :mod:`polind.cli.exports`: ``fmu``;
+- :mod:`polind.cli.compiling`: ``precompile``;
 - this package: :func:`main`, which runs the group and turns errors into exit
   statuses; importing it registers every command.
 
@@ -45,7 +46,7 @@ import warnings
 import click
 
 # The commands register on the group when their modules are imported.
-from polind.cli import exports, fitting, reports, runs, surfaces  # noqa: F401
+from polind.cli import compiling, exports, fitting, reports, runs, surfaces  # noqa: F401
 from polind.cli.common import PROGRAM, cli, progress
 from polind.errors import InputError
 
