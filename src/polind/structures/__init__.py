@@ -5,12 +5,15 @@ the contacts; :func:`polind.simulate_structure` integrates it in time with the
 structure driver of :mod:`polind.kernels.structure`; :func:`polind.load_structure`
 reads a structure file (:ref:`formats-structure`) into a structure and its
 run (:class:`polind.structures.StructureRun`); :func:`polind.structures.plot_structure`
-draws a result.
+draws a result; :func:`polind.structures.contact_period` is a contact's periodic
+steady state along one period of a motion (the periodic evaluation harmonic
+balance builds on, :mod:`polind.kernels.periodic`).
 """
 
 from polind.structures.core import Structure, StructureResult, simulate_structure
+from polind.structures.periodic import ContactPeriod, contact_period
 from polind.structures.files import StructureRun, load_structure, structure_from_dict
 from polind.structures.plot import plot_structure
 
-__all__ = ["Structure", "StructureResult", "StructureRun", "load_structure", "plot_structure",
+__all__ = ["ContactPeriod", "contact_period", "Structure", "StructureResult", "StructureRun", "load_structure", "plot_structure",
            "simulate_structure", "structure_from_dict"]

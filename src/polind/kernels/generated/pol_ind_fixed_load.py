@@ -26,6 +26,7 @@ from polind.kernels.mount import (CONTACT_POSITION, CONTACT_VELOCITY, FORCE_SCAL
                                   MEMORYLESS, REST_CAPACITY, SPRING_FORCE, STIFFNESS,
                                   contact_step, load_ratio, scaled_force)
 from polind.kernels.series import mounted_commit  # noqa: E402
+from polind.kernels.periodic import periodic_with  # noqa: E402
 from polind.kernels.structure import integrate_structure_with  # noqa: E402
 
 
@@ -330,3 +331,9 @@ def structure(arguments):
 def mounted_structure(arguments):
     """:func:`polind.kernels.structure.integrate_structure_with` of mounted contacts."""
     integrate_structure_with(mounted_body_trial, mounted_body_commit, mounted_solve, arguments)
+
+
+@jit
+def period(arguments):
+    """:func:`polind.kernels.periodic.periodic_with` of the mounted contact (rigid or not)."""
+    return periodic_with(mounted_body_commit, model_tangent, arguments)
