@@ -336,24 +336,20 @@ def run_task(variant, driver) -> TaskRow:
 
 # --- the processes --------------------------------------------------------------------------
 
-_QUEUE = None
-
-
-def _lock_cache_saves(lock_path) -> None:
+def _lock_cache_saves(lock_path):
     """Make every save to numba's cache in this process hold an exclusive lock on ``lock_path``.
 
     See the module notes: a function's index file is read, extended and
-    replaced; two processes doing that at once could lose an entry.
+    replaced; two processes doing that at once could lose an entry.  Returns
+    a function that undoes it (numba's own saves again).
     """
     try:
         import fcntl
     except ImportError:         # not POSIX: the families alone keep the processes apart
-        return
+        return lambda: None
     from numba.core import caching
 
     save = caching.IndexDataCacheFile.save
-    if getattr(save, "polind_locked", False):
-        return
 
     def locked_save(self, key, data):
         with open(lock_path, "a") as lock:
@@ -363,28 +359,116 @@ def _lock_cache_saves(lock_path) -> None:
             finally:
                 fcntl.flock(lock, fcntl.LOCK_UN)
 
-    locked_save.polind_locked = True
     caching.IndexDataCacheFile.save = locked_save
 
+    def undo():
+        caching.IndexDataCacheFile.save = save
+    return undo
 
-def _start_worker(queue, lock_path) -> None:
-    global _QUEUE
-    _QUEUE = queue
+
+def _worker(groups, results, lock_path):
+    """A spawned worker: the groups it takes from ``groups`` until a None, each row put on
+    ``results``; then ``("exit", None)``, or ``("error", exception)`` at the first failure."""
     _lock_cache_saves(lock_path)
+    try:
+        while (group := groups.get()) is not None:
+            for variant, driver in group:
+                results.put(("row", run_task(variant, driver)))
+    except BaseException as error:      # noqa: BLE001 - the parent raises it
+        try:
+            results.put(("error", error))
+        except Exception:               # noqa: BLE001 - an exception that does not pickle
+            results.put(("error", RuntimeError(f"{type(error).__name__}: {error}")))
+        return
+    results.put(("exit", None))
 
 
-def run_family(work):
-    """Run the tasks ``work`` in this process (a worker), putting each row on the queue."""
-    rows = []
-    for variant, driver in work:
-        rows.append(run_task(variant, driver))
-        if _QUEUE is not None:
-            _QUEUE.put(rows[-1])
-    return rows
+class _Workers:
+    """Spawned processes sharing a queue of groups with this one (:func:`run_precompile`)."""
+
+    def __init__(self, groups, count, finished):
+        import multiprocessing
+        import tempfile
+        import threading
+
+        context = multiprocessing.get_context("spawn")    # fresh interpreters, no forked numba
+        self._scratch = tempfile.TemporaryDirectory(prefix="polind-precompile-")
+        lock_path = os.path.join(self._scratch.name, "cache.lock")
+        self._undo = _lock_cache_saves(lock_path)           # this process saves under it too
+        self._groups, self._results = context.Queue(), context.Queue()
+        for group in groups:
+            self._groups.put(group)
+        for _ in range(count):
+            self._groups.put(None)
+        self._errors = []
+        self._finished = finished
+        self._processes = [context.Process(target=_worker, daemon=True,
+                                           args=(self._groups, self._results, lock_path))
+                           for _ in range(count)]
+        for process in self._processes:
+            process.start()
+        self._reader = threading.Thread(target=self._read, daemon=True)
+        self._reader.start()
+
+    def _read(self):
+        """The workers' rows as they come (a thread of this process), until a None."""
+        while (message := self._results.get()) is not None:
+            kind, value = message
+            if kind == "row":
+                self._finished(value)
+            elif kind == "error":
+                self._errors.append(value)
+
+    def take(self):
+        """The next group no process has begun, or None (a worker's None is put back)."""
+        import queue
+
+        if self._errors:
+            raise self._errors[0]
+        try:
+            group = self._groups.get(timeout=0.5)
+        except queue.Empty:
+            return None
+        if group is None:
+            self._groups.put(None)
+        return group
+
+    def finish(self):
+        """Wait for every worker to end; raise the first failure."""
+        for process in self._processes:
+            while process.is_alive() and not self._errors:
+                process.join(timeout=0.2)
+        if not self._errors:
+            for process in self._processes:
+                process.join()
+        self._results.put(None)
+        self._reader.join()
+        if self._errors:
+            raise self._errors[0]
+        for process in self._processes:
+            if process.exitcode != 0:
+                raise RuntimeError(f"a precompile process ended with exit status "
+                                   f"{process.exitcode}")
+
+    def close(self):
+        """Stop what still runs (after a failure), restore numba's saves, remove the lock."""
+        for process in self._processes:
+            if process.is_alive():
+                process.terminate()
+            process.join()
+        self._undo()
+        self._scratch.cleanup()
 
 
 def run_precompile(types=None, drivers=None, jobs=1, progress=None):
     """Compile each variant of ``types`` through each of ``drivers`` into numba's cache.
+
+    The tasks run in this process.  With ``jobs`` above 1, as soon as a task
+    has compiled something (the cache did not hold it), the groups of
+    :func:`families` not yet begun are shared out: ``jobs - 1`` spawned
+    processes and this one each take the next group as they finish one.  A
+    cache that holds everything spawns nothing: loading it is quicker than
+    starting interpreters.
 
     Parameters
     ----------
@@ -393,68 +477,50 @@ def run_precompile(types=None, drivers=None, jobs=1, progress=None):
     drivers : list of str, optional
         Keys of :data:`DRIVERS` (default every one).
     jobs : int
-        Processes: 1 runs every task in this one; more run the runner
-        families in that many fresh processes (spawned), side by side.
+        The most processes compiling at once, this one included.
     progress : callable, optional
-        Called with each :class:`TaskRow` as it finishes.
+        Called with each :class:`TaskRow` as it finishes (from a thread of
+        this process for the tasks of the others).
 
     Returns
     -------
     list of TaskRow
         In the order of :func:`tasks`.
     """
+    import threading
+
     work = tasks(types, drivers)
-    groups = families(work)
     rows = {}
+    lock = threading.Lock()
 
     def finished(row):
-        rows[row.variant, row.driver] = row
-        if progress is not None:
-            progress(row)
+        with lock:
+            rows[row.variant, row.driver] = row
+            if progress is not None:
+                progress(row)
 
-    if jobs <= 1 or len(groups) == 1:
-        for variant, driver in work:
-            finished(run_task(variant, driver))
-    else:
-        _run_in_processes(groups, min(jobs, len(groups)), finished)
-    return [rows[task] for task in work]
-
-
-def _run_in_processes(groups, processes, finished):
-    """Each group of tasks in one of ``processes`` spawned workers; ``finished(row)`` each."""
-    import multiprocessing
-    import queue as queues
-    import tempfile
-    from concurrent.futures import ProcessPoolExecutor
-
-    context = multiprocessing.get_context("spawn")   # fresh interpreters: no forked numba
-    updates = context.Queue()
-    seen = set()
-    with tempfile.TemporaryDirectory(prefix="polind-precompile-") as scratch, \
-            ProcessPoolExecutor(max_workers=processes, mp_context=context,
-                                initializer=_start_worker,
-                                initargs=(updates, os.path.join(scratch, "cache.lock"))) as pool:
-        futures = [pool.submit(run_family, group) for group in groups]
-        try:
-            while True:
-                try:
-                    row = updates.get(timeout=0.1)
-                except queues.Empty:
-                    if all(future.done() for future in futures):
-                        break
-                    for future in futures:
-                        if future.done() and future.exception() is not None:
-                            raise future.exception()
-                    continue
-                seen.add((row.variant, row.driver))
+    waiting = families(work)
+    workers = None
+    try:
+        while True:
+            if workers is None:
+                group = waiting.pop(0) if waiting else None
+            else:
+                group = workers.take()
+            if group is None:
+                break
+            for variant, driver in group:
+                row = run_task(variant, driver)
                 finished(row)
-        except BaseException:
-            pool.shutdown(wait=False, cancel_futures=True)
-            raise
-        for future in futures:            # the rows a queue has not delivered yet
-            for row in future.result():
-                if (row.variant, row.driver) not in seen:
-                    finished(row)
+                if row.compiled and workers is None and waiting and jobs > 1:
+                    workers = _Workers(waiting, min(jobs - 1, len(waiting)), finished)
+                    waiting = []
+        if workers is not None:
+            workers.finish()
+    finally:
+        if workers is not None:
+            workers.close()
+    return [rows[task] for task in work]
 
 
 # --- where the cache is ---------------------------------------------------------------------

@@ -36,17 +36,19 @@ def _names(values) -> list:
 def precompile(models, drivers, jobs, quiet):
     """Compile every built-in model for every driver into numba's on-disk cache, once.
 
-    Run it once after installing polind (or upgrading it, or numba): every
-    later process loads its kernels from the cache instead of compiling
-    them, so the first `polind simulate`, fit or demo starts as fast as
-    the next.  Each built-in model (Pol-Ind statistical, at a fixed load and
-    elastic-plastic) runs on a tiny input through simulate (positions and
-    velocities), Stepper, Body, BodyBatch and simulate_system, each as it is
-    and behind a series spring, at its own load and at a varying one. The
-    cache is numba's (NUMBA_CACHE_DIR when set, else beside polind's
-    sources or numba's user-wide folder); a cache already filled is loaded
-    in a few seconds. Prints each model's kernels compiled and loaded and
-    the time taken.
+    Run it once after installing polind (and after upgrading it or numba):
+    every later process loads the kernels from the cache instead of
+    compiling them, so the first `polind simulate`, fit or demo of a model
+    starts as fast as the next. Each built-in model (Pol-Ind statistical,
+    at its fixed load and elastic-plastic) runs on a tiny input through
+    simulate (positions and velocities), Stepper, Body, BodyBatch and
+    simulate_system, each as it is and behind a series spring, at its own
+    load and at a varying one. The cache is numba's (NUMBA_CACHE_DIR when
+    set, else beside polind's sources or numba's user-wide folder). Once
+    something needs compiling the models are shared out among --jobs
+    processes; a cache that already holds everything is only loaded, in
+    one process. Prints each model's kernel signatures compiled and loaded,
+    its seconds, and the total time.
     """
     import time
 
@@ -59,11 +61,11 @@ def precompile(models, drivers, jobs, quiet):
     work = compiler.tasks(types, chosen)
     processes = min(jobs, len(compiler.families(work)))
     if not quiet:
-        click.echo(f"polind precompile: {len(work)} model and driver pairs in {processes} "
-                   f"process{'es' if processes > 1 else ''}, into {location}")
+        where = f"in up to {processes} processes" if processes > 1 else "in one process"
+        click.echo(f"polind precompile: {len(work)} model and driver pairs, {where}, into "
+                   f"{location}")
     started = time.perf_counter()
-    with progress(total=len(work), description="precompile", unit=" tasks",
-                  ) as bar:
+    with progress(total=len(work), description="precompile", unit=" tasks") as bar:
         def shown(row):
             bar.set_postfix_str(f"{row.variant}: {row.driver}", refresh=False)
             bar.update()
@@ -72,7 +74,5 @@ def precompile(models, drivers, jobs, quiet):
     seconds = time.perf_counter() - started
     if not quiet:
         click.echo(compiler.format_rows(rows))
-        compiled = sum(row.compiled for row in rows)
-        loaded = sum(row.loaded for row in rows)
-        click.echo(f"compiled {compiled} kernel signatures and loaded {loaded} from the cache "
-                   f"in {seconds:.1f} s")
+        click.echo(f"compiled {sum(row.compiled for row in rows)} kernel signatures and loaded "
+                   f"{sum(row.loaded for row in rows)} from the cache in {seconds:.1f} s")
