@@ -106,3 +106,43 @@ def test_bench_accepts_any_registered_type(registered, monkeypatch, capsys):
     last = out.splitlines()[-1].split()
     assert last == [Relax.type, "1", "100", "1.000e+08", "—", "—", "—"]
     assert "separation" not in out            # no contact mechanics: no contact rows
+
+
+def test_every_ratio_row_has_a_target_and_the_numpy_scalar_rows_are_there():
+    """The ratio rows, listed without measuring any: each named once, with a target; the rows
+    of issue 38 hold NumPy-scalar calls of Stepper.advance and Body.step to 1.2 float calls."""
+    from polind.bench import ratios
+
+    specs = ratios.ratio_specs()
+    names = [spec.name for spec in specs]
+    assert len(names) == len(set(names))
+    for spec in specs:
+        assert spec.target > 0 and isinstance(spec.at_most, bool) and callable(spec.measure)
+        assert len(spec.name) <= 58                 # the width of format_ratios' name column
+    by_name = {spec.name: spec for spec in specs}
+    for label in ("LuGre", "Pol-Ind (64)"):
+        for name in (f"Stepper.advance np.float64 / float arguments: {label}",
+                     f"Body.step np.float64 / float argument: {label}"):
+            assert by_name[name].target == 1.2 and by_name[name].at_most
+    assert names.index("Stepper.advance / bare numba call: LuGre") == 0   # the order kept
+
+
+def test_run_ratios_runs_the_rows_asked_for(monkeypatch):
+    from polind.bench import ratios
+
+    measured = []
+
+    def spec(name, value, target, at_most):
+        return ratios.RatioSpec(name, target, at_most,
+                                lambda: measured.append(name) or (value, "detail"))
+
+    monkeypatch.setattr(ratios, "ratio_specs", lambda: [
+        spec("Stepper.advance np.float64 / float arguments: LuGre", 1.1, 1.2, True),
+        spec("bare loop / simulate: LuGre", 0.5, 1.0, False)])
+    shown = []
+    rows = ratios.run_ratios(progress=shown.append, only=["np.float64"])
+    assert measured == ["Stepper.advance np.float64 / float arguments: LuGre"]
+    assert shown == rows and [(r.value, r.target, r.met) for r in rows] == [(1.1, 1.2, True)]
+    line = ratios.format_ratios(rows).splitlines()[-1]
+    assert "<= 1.2" in line and "met" in line
+    assert [r.met for r in ratios.run_ratios()] == [True, False]

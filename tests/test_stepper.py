@@ -10,6 +10,7 @@ sets (seeded), so the equality is not a coincidence of one case.
 from __future__ import annotations
 
 import copy
+import warnings
 
 import numpy as np
 import pytest
@@ -312,3 +313,164 @@ def test_the_time_then_the_motion_then_the_load_is_named(bad, message):
     stepper = polind.Stepper(lib(ALL["pol-ind"]))
     with pytest.raises(polind.InputError, match=message):
         stepper.advance(**bad)
+
+
+# --- NumPy scalars and ints: the forces of floats, and the same refusals (issue 38) --------
+
+def _scalar_models():
+    compliant = {**ALL["lugre"], "compliance": {"stiffness": 2e5}}     # a mounted contact
+    return {"lugre": ALL["lugre"], "maxwell-slip": ALL["maxwell-slip"],
+            "pol-ind": ALL["pol-ind"], "compliance": compliant}
+
+
+# Each kind turns a float sample into an argument, and that argument into the float it means.
+_KINDS = {
+    "np.float64": (np.float64, float),
+    "np.float32": (np.float32, lambda value: float(np.float32(value))),
+    "np.longdouble": (np.longdouble, lambda value: float(np.longdouble(value))),
+    "np.int64": (lambda value: np.int64(round(value)), lambda value: float(round(value))),
+    "int": (lambda value: int(round(value)), lambda value: float(round(value))),
+}
+
+
+def _samples(kind, model_type, n=120):
+    """``(t, x, v, load)`` of a path in units an integer kind can carry (ms, µm, N)."""
+    integer = kind in ("np.int64", "int")
+    k = np.arange(1, n)
+    t = k * (1.0 if integer else 1e-3)               # s (an integer kind: 1 s steps)
+    x = np.round(3.0 * np.sin(0.2 * k)) if integer else 2e-6 * np.sin(0.2 * k)
+    v = np.round(2.0 * np.cos(0.3 * k)) if integer else 1e-3 * np.cos(0.3 * k)
+    load = np.round(90.0 + 5.0 * np.sin(0.1 * k))   # N, within the Pol-Ind table
+    if integer and model_type in ("pol-ind", "maxwell-slip"):
+        x, v = x * 1e-6, v * 1e-6      # µm: an integer kind then gives the time and load only
+    return t, x, v, load
+
+
+@pytest.mark.parametrize("kind", list(_KINDS))
+@pytest.mark.parametrize("model_type", list(_scalar_models()))
+def test_numpy_scalars_and_ints_give_the_forces_of_floats(model_type, kind):
+    """Stepper (by x, by v, with a load) and Body fed NumPy scalars or ints give, bit for bit,
+    the forces of the same values as floats."""
+    make, meaning = _KINDS[kind]
+    model = lib(_scalar_models()[model_type])
+    t, x, v, load = _samples(kind, model_type)
+    integer_motion = kind in ("np.int64", "int") and model_type in ("pol-ind", "maxwell-slip")
+    loaded = model_type == "pol-ind"
+
+    def run(convert, motion_convert):
+        by_x, by_v, body = polind.Stepper(model), polind.Stepper(model), polind.Body(model)
+        out = []
+        for k in range(t.shape[0]):
+            extra = {"normal_load": convert(load[k])} if loaded else {}
+            out.append(by_x.advance(convert(t[k]), x=motion_convert(x[k]), **extra))
+            out.append(by_v.advance(convert(t[k]), v=motion_convert(v[k]), **extra))
+            out.extend(body.step(convert(100.0 * x[k] / max(np.max(np.abs(x)), 1e-300)),
+                                 **extra))
+        return np.array(out), by_x.state.variables, body.state.variables
+
+    motion = float if integer_motion else make
+    motion_meaning = float if integer_motion else meaning
+    got, got_state, got_body = run(make, motion)
+    expected, state, body = run(meaning, motion_meaning)
+    np.testing.assert_array_equal(got, expected)
+    for key in state:
+        np.testing.assert_array_equal(got_state[key], state[key])
+    np.testing.assert_array_equal(got_body["body"], body["body"])
+
+
+def test_the_elements_of_arrays_give_the_forces_of_floats_and_of_simulate():
+    """What the shipped examples pass: ``advance(t[k], x=x[k])`` (np.float64), as they are."""
+    model = lib(ALL["pol-ind"])
+    t, x = _path("pol-ind", 4)
+    res = polind.simulate(model, t, x=x)
+    stepper = polind.Stepper(model, velocity=res.v[0])
+    forces = [stepper.force] + [stepper.advance(t[k], x=x[k]) for k in range(1, t.shape[0])]
+    np.testing.assert_array_equal(forces, _stepper_forces(
+        polind.Stepper(model, velocity=float(res.v[0])), t, x=x))
+    assert_close(forces, res.force, 1e-12, float(np.max(np.abs(res.force))), "np.float64")
+
+
+_NAN64, _INF32 = np.float64("nan"), np.float32("inf")
+
+
+@pytest.mark.parametrize("bad, message", [
+    # what check_number names, whatever the type the fast path takes a number as
+    ({"t": _NAN64, "x": 0.0}, r"'t' parameter of Stepper.advance must be finite\. Got "
+                              r"np.float64\(nan\)"),
+    ({"t": np.longdouble("1e400"), "x": 0.0}, "'t' parameter of Stepper.advance must be finite"),
+    ({"t": 1.0, "x": _INF32}, r"'x' parameter of Stepper.advance must be finite\. Got "
+                              r"np.float32\(inf\)"),
+    ({"t": 1.0, "v": _NAN64}, "'v' parameter of Stepper.advance must be finite"),
+    ({"t": 1.0, "x": 10 ** 400}, "'x' parameter of Stepper.advance must be a finite number of "
+                                 "double precision"),
+    ({"t": 10 ** 400, "x": 0.0}, "'t' parameter of Stepper.advance must be a finite number"),
+    ({"t": np.float64(1.0), "x": True}, "'x' parameter of Stepper.advance must be a number"),
+    ({"t": 1.0, "x": np.bool_(True)}, "'x' parameter of Stepper.advance must be a number"),
+    ({"t": np.True_, "x": 0.0}, "'t' parameter of Stepper.advance must be a number"),
+    ({"t": 1.0, "x": np.array(0.1)}, "'x' parameter of Stepper.advance must be a number"),
+    ({"t": 1.0, "x": np.array([0.1])}, "'x' parameter of Stepper.advance must be a number"),
+    ({"t": np.array(1.0), "x": 0.1}, "'t' parameter of Stepper.advance must be a number"),
+    ({"t": 1.0, "x": np.zeros(3)}, "'x' parameter of Stepper.advance must be a number"),
+    ({"t": 1.0, "x": np.complex128(1.0)}, "'x' parameter of Stepper.advance must be a number"),
+    ({"t": 1.0, "x": np.str_("0.1")}, "'x' parameter of Stepper.advance must be a number"),
+    ({"t": 1.0, "x": np.float64(1.0), "v": np.float64(0.0)}, "exactly one"),
+    ({"t": np.float64(1.0)}, "exactly one"),
+    ({"t": np.float64(1e-10), "x": np.float64(1e308)}, "finite step velocity"),
+    # the time, then the motion, then the load, whatever the types
+    ({"t": np.float64(0.0), "x": np.float64(1.0), "normal_load": -1.0}, "after the current"),
+    ({"t": 0, "x": 0, "normal_load": np.float64(-1.0)}, "after the current time"),
+    ({"t": np.int64(1), "x": np.float64("nan"), "normal_load": np.float32(-1.0)},
+     r"'x' parameter of Stepper.advance must be finite\. Got np.float64\(nan\)"),
+    ({"t": 1.0, "x": np.float64(0.0), "normal_load": np.float64(-10.0)},
+     "'normal_load' parameter of Stepper must be positive"),
+    ({"t": 1.0, "x": 0.0, "normal_load": np.float32("nan")},
+     "'normal_load' parameter of Stepper must be finite"),
+    ({"t": 1.0, "x": 0.0, "normal_load": np.array(90.0)},
+     "'normal_load' parameter of Stepper must be a number"),
+    ({"t": 1.0, "x": 0.0, "normal_load": np.float64(200.0)}, "table was built for at most"),
+])
+@pytest.mark.parametrize("model_type", ["pol-ind", "compliance"])
+def test_numpy_scalars_are_refused_as_floats_are(model_type, bad, message):
+    if model_type == "compliance" and "table was built" in message:
+        pytest.skip("a load bound of the Pol-Ind table")
+    stepper = polind.Stepper(lib(_scalar_models()[model_type]))
+    with pytest.raises(polind.InputError, match=message):
+        stepper.advance(**bad)
+    assert (stepper.time, stepper.position, stepper.force) == (0.0, 0.0, 0.0)
+
+
+def test_a_bad_numpy_sample_is_named_before_a_load_warning():
+    """A model that ignores a load warns at its first load; a bad time or motion given as a
+    NumPy scalar is named before, as a float's check did, and the warning then comes once."""
+    stepper = polind.Stepper(lib(ALL["lugre"]))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(polind.InputError, match="'x' parameter of Stepper.advance"):
+            stepper.advance(np.float64(1.0), x=np.float64("nan"), normal_load=np.float64(5.0))
+        with pytest.raises(polind.InputError, match="after the current time"):
+            stepper.advance(np.float64(0.0), x=np.float64(0.0), normal_load=5.0)
+    with pytest.warns(UserWarning, match="ignores the normal-load signal"):
+        stepper.advance(np.float64(1.0), x=np.float64(1e-6), normal_load=np.float64(5.0))
+
+
+@pytest.mark.parametrize("force, message", [
+    (np.float64("nan"), r"'applied_force' parameter of Body.step must be finite\. Got "
+                        r"np.float64\(nan\)"),
+    (np.float32("-inf"), "'applied_force' parameter of Body.step must be finite"),
+    (np.longdouble("1e400"), "'applied_force' parameter of Body.step must be finite"),
+    (10 ** 400, "'applied_force' parameter of Body.step must be a finite number"),
+    (np.bool_(True), "'applied_force' parameter of Body.step must be a number"),
+    (np.array(1.0), "'applied_force' parameter of Body.step must be a number"),
+    (np.array([1.0]), "'applied_force' parameter of Body.step must be a number"),
+    (np.complex64(1.0), "'applied_force' parameter of Body.step must be a number"),
+])
+@pytest.mark.parametrize("load", [None, np.float64(90.0), np.float64(-1.0)])
+@pytest.mark.parametrize("model_type", ["pol-ind", "compliance"])
+def test_a_body_refuses_bad_numpy_forces_as_before(model_type, load, force, message):
+    body = polind.Body(lib(_scalar_models()[model_type]))
+    body.step(np.float64(1.0))
+    before = (body.time, body.position, body.velocity, body.friction)
+    extra = {} if load is None else {"normal_load": load}
+    with pytest.raises(polind.InputError, match=message):
+        body.step(force, **extra)               # the force is named first, beside a bad load
+    assert (body.time, body.position, body.velocity, body.friction) == before

@@ -28,6 +28,7 @@ from polind.kernels.buffer import (BODY, BODY_SIZE, CLOCK, CLOCK_SIZE, FORCE, FO
                                    LAST_LOAD, MASS, MEMORYLESS, METHOD, MOUNT, POSITION,
                                    REST_CAPACITY, TIME, VELOCITY, RefusedSample, buffer_entry,
                                    copied, step_buffer)
+from polind.kernels.buffer import NUMPY_REALS as _NP
 from polind.kernels.mount import N_MOUNT
 from polind.models import FrictionModel, State
 from polind.models.kernel import RIGID
@@ -35,9 +36,10 @@ from polind.validation import check_number
 
 __all__ = ["Stepper", "Body"]
 
-_INF = math.inf
+_INF, _NAN = math.inf, math.nan
 # The relative error a Body's time step may take from the rounding of its absolute time.
 _STEP_TOLERANCE = 1e-6
+_F64, _F32 = np.float64, np.float32      # NumPy scalars: what indexing an array gives
 
 
 def _lost_step(time, time_step, step):
@@ -83,10 +85,10 @@ class LoadCheck:
         self.warned = False
 
     def __call__(self, normal_load):
-        # Fast path: a plain float, checked with comparisons only.
-        if type(normal_load) is float and 0.0 < normal_load < math.inf:
+        # Fast path: a float or a NumPy scalar (as its float()), checked with comparisons only.
+        if type(normal_load) is float and 0.0 < normal_load < _INF:
             load = normal_load
-        else:
+        elif not 0.0 < (load := float(normal_load) if type(normal_load) in _NP else _NAN) < _INF:
             load = check_number(self.owner, "normal_load", normal_load, "positive")
         if not self.takes_load:
             if not self.warned:
@@ -206,8 +208,9 @@ class Stepper:
             # A mounted contact (series spring, load scaling) runs one-sample paths.
             self._path = np.zeros((6, 2))
             self._path_load = kernel.normal_load
-            self._by_position = self._mounted_position
-            self._by_velocity = self._mounted_velocity
+            mounted = self._mounted_sample      # on floats: its arithmetic runs in Python
+            self._by_position = lambda buffer, t, x, load: mounted(float(t), float(x), None, load)
+            self._by_velocity = lambda buffer, t, v, load: mounted(float(t), None, float(v), load)
         sample = self._buffer[TIME:FORCE + 1]
         if state is not None:
             sample[:] = state.time, state.position, state.velocity, state.force
@@ -254,46 +257,52 @@ class Stepper:
             The normal load [N] at ``t`` (models that use it; default: the
             model's own).
         """
-        # Fast path: plain floats, checked by type here and by comparisons in the compiled
-        # sample (polind.kernels.buffer.stepper_sample), which refuses a bad one.
-        if type(t) is not float:
-            t = check_number("Stepper.advance", "t", t)
-        if v is None:
-            if type(x) is not float:
-                x = self._checked_motion(t, x, v)
-            by = self._by_position
-            motion = x
-        else:
-            if x is not None or type(v) is not float:
-                v = self._checked_motion(t, x, v)
-            by = self._by_velocity
-            if by is None:
-                by = self._by_velocity = buffer_entry(self._kernel.runners.stepper_velocity, 3)
-            motion = v
+        # Floats and NumPy scalars cross as they are, ints as float(); _checked names a refusal.
         try:
+            kind = type(t)
+            if kind is not float and kind is not _F64 and kind is not _F32 and kind not in _NP:
+                t = float(t) if kind is int else check_number("Stepper.advance", "t", t)
+            if v is None:
+                motion, kind = x, type(x)
+                if kind is not float and kind is not _F64 and kind is not _F32 and kind not in _NP:
+                    motion = float(x) if kind is int else self._checked(t, x, v)[1]
+                by = self._by_position
+            else:
+                motion, kind = v, type(v)
+                if x is not None or kind is not float and kind is not _F64 and \
+                        kind is not _F32 and kind not in _NP:
+                    motion = float(v) if x is None and kind is int else self._checked(t, x, v)[2]
+                by = self._by_velocity
+                if by is None:      # compiled (or loaded) at the first sample by velocity
+                    by = self._by_velocity = buffer_entry(self._kernel.runners.stepper_velocity,
+                                                          3)
             if normal_load is None:
                 return by(self._buffer, t, motion, self._load)
+            if not self._check_load.takes_load and not self._check_load.warned:
+                self._checked(t, x, v)          # named before the warning, as before
             try:
                 load = self._check_load(normal_load)
             except InputError:
-                self._motion(t, x, v)   # a bad time or motion beside a bad load is named first
+                self._motion(*self._checked(t, x, v))   # a bad time or motion is named first
                 raise
             return by(self._buffer, t, motion, load)
-        except RefusedSample:
+        except (RefusedSample, OverflowError):      # (OverflowError: an int beyond a double)
             pass
-        self._motion(t, x, v)           # raises the InputError of the refused sample
+        self._motion(*self._checked(t, x, v))   # raises the InputError of the refused sample
         raise AssertionError("Stepper.advance: a refused sample without an InputError")
 
-    def _checked_motion(self, t, x, v):
-        """The one motion value given (``x`` or ``v``) as a float, after the time's own check."""
+    def _checked(self, t, x, v):
+        """``(t, x, v)``, each not a float checked as check_number does, in advance's order."""
+        if type(t) is not float:
+            t = check_number("Stepper.advance", "t", t)
+        if v is None and type(x) is float or x is None and type(v) is float:
+            return t, x, v
         self._step_to(t)
-        if v is None:
-            if x is None:
-                raise InputError("Give Stepper.advance exactly one of 'x' and 'v'. Got neither.")
-            return check_number("Stepper.advance", "x", x)
-        if x is not None:
-            raise InputError("Give Stepper.advance exactly one of 'x' and 'v'. Got both.")
-        return check_number("Stepper.advance", "v", v)
+        if (x is None) == (v is None):
+            raise InputError(f"Give Stepper.advance exactly one of 'x' and 'v'. Got "
+                             f"{'neither' if x is None else 'both'}.")
+        return (t, check_number("Stepper.advance", "x", x), v) if v is None else \
+            (t, x, check_number("Stepper.advance", "v", v))
 
     def _step_to(self, t):
         """The step from the current time to ``t``; an InputError if ``t`` is not after it."""
@@ -305,40 +314,33 @@ class Stepper:
         return step
 
     def _motion(self, t, x, v):
-        """``(step, displacement, step_velocity, sample_velocity, position)`` of a sample.
-
-        :meth:`advance`'s rules in its arithmetic (the compiled sample's,
-        :func:`polind.kernels.buffer.stepper_sample`); an InputError for a
-        sample it refuses.
-        """
+        """``(step, displacement, step_velocity, sample_velocity, position)`` of a sample by
+        :meth:`advance`'s rules in the arithmetic of the compiled sample
+        (:func:`polind.kernels.buffer.stepper_sample`); an InputError for one it refuses."""
         step = self._step_to(t)
         position = float(self._buffer[POSITION])
         if v is None:
             displacement = x - position
-            step_velocity = displacement / step
-            if step_velocity - step_velocity != 0.0:      # inf or nan
-                raise InputError(f"The 'x' of Stepper.advance must be finite, with a finite step "
-                                 f"velocity. Got x = {x!r} at t = {t!r}.")
-            return step, displacement, step_velocity, step_velocity, x
-        step_velocity = 0.5 * (float(self._buffer[VELOCITY]) + v)
-        displacement = step_velocity * step
-        position = position + displacement
-        if position - position != 0.0:                # inf or nan
-            raise InputError(f"The 'v' of Stepper.advance must be finite, with a finite "
-                             f"position. Got v = {v!r} at t = {t!r}.")
-        return step, displacement, step_velocity, v, position
-
-    def _mounted_position(self, buffer, t, x, load):
-        return self._mounted_sample(t, x, None, load)
-
-    def _mounted_velocity(self, buffer, t, v, load):
-        return self._mounted_sample(t, None, v, load)
+            step_velocity = sample_velocity = displacement / step
+            position = x
+        else:
+            step_velocity = 0.5 * (float(self._buffer[VELOCITY]) + v)
+            displacement = step_velocity * step
+            position, sample_velocity = position + displacement, v
+        if step_velocity - step_velocity != 0.0 or position - position != 0.0:  # inf or nan
+            name, value, what = ("x", x, "step velocity") if v is None else ("v", v, "position")
+            raise InputError(f"The '{name}' of Stepper.advance must be finite, with a finite "
+                             f"{what}. Got {name} = {value!r} at t = {t!r}.")
+        return step, displacement, step_velocity, sample_velocity, position
 
     def _mounted_sample(self, t, x, v, load):
         """One sample of a mounted contact (:func:`polind.kernels.series.mounted_sample`)."""
         from polind.kernels.series import mounted_sample
 
-        step, displacement, step_velocity, sample_velocity, position = self._motion(t, x, v)
+        try:
+            step, displacement, step_velocity, sample_velocity, position = self._motion(t, x, v)
+        except InputError:
+            raise RefusedSample from None       # named by advance, as a compiled refusal
         kernel = self._kernel
         force = mounted_sample(kernel.runners, kernel.mount, kernel.scalars, kernel.table,
                                kernel.state, kernel.scratch, self._path, step, displacement,
@@ -569,14 +571,18 @@ class Body:
         ``normal_load`` [N] is the normal load at the end of the step for
         models that use it (default: the model's own).
         """
-        if type(applied_force) is not float:
-            applied_force = check_number("Body.step", "applied_force", applied_force)
-        # The compiled step (polind.kernels.buffer.body_sample) refuses a non-finite force
-        # or a lost step; a new load is brought to the model's real state first there (the
-        # model's force function does that): the solver's trials run on a copy.
+        # A force as Stepper.advance takes a time.  The compiled step (polind.kernels.buffer.
+        # body_sample) refuses a non-finite force or a lost step; a new load is brought to the
+        # model's real state first there (its force function): the solver's trials run on a copy.
         try:
+            kind = type(applied_force)
+            if kind is not float and kind is not _F64 and kind is not _F32 and kind not in _NP:
+                applied_force = float(applied_force) if kind is int else \
+                    check_number("Body.step", "applied_force", applied_force)
             if normal_load is None:
                 return self._advance(self._buffer, self._own_load, applied_force)
+            if kind is not float and not -_INF < float(applied_force) < _INF:   # named first
+                check_number("Body.step", "applied_force", applied_force)
             try:
                 load = self._check_load(normal_load)
             except InputError:
@@ -584,8 +590,10 @@ class Body:
                     raise self._refusal(applied_force) from None
                 raise
             return self._advance(self._buffer, load, applied_force)
-        except RefusedSample:
+        except (RefusedSample, OverflowError):      # (OverflowError: an int beyond a double)
             pass
+        if type(applied_force) is not float:     # raises for a non-finite one
+            applied_force = check_number("Body.step", "applied_force", applied_force)
         raise self._refusal(applied_force)
 
     def _refusal(self, applied_force):

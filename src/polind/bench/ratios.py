@@ -1,11 +1,13 @@
 """The ratio rows of ``polind bench``: two timings taken in the same run, and their ratio.
 
 The figures the user-loop API is held to: :class:`polind.Stepper` and a
-moving :class:`polind.Body` against a bare Python-to-numba call,
-:class:`polind.BodyBatch` per body-step against :func:`polind.simulate_system`,
-:func:`polind.simulate` end to end against the bare numba loops of
-:mod:`polind.bench.references`, and the Pol-Ind model under a varying against a
-constant normal load (:func:`run_ratios`).
+moving :class:`polind.Body` against a bare Python-to-numba call, and each
+given NumPy ``float64`` scalars (what indexing an array gives) against the
+same call given floats, :class:`polind.BodyBatch` per body-step against
+:func:`polind.simulate_system`, :func:`polind.simulate` end to end against the
+bare numba loops of :mod:`polind.bench.references`, and the Pol-Ind model under
+a varying against a constant normal load (:func:`run_ratios`; the rows are
+listed, unmeasured, by :func:`ratio_specs`).
 
 The machine the figures are taken on is shared, and absolute rates vary by 2x
 between runs; a ratio of two timings taken in the same run, interleaved,
@@ -20,7 +22,9 @@ viscous term, so those rows run their example with ``viscous_coefficient = 0``.
 
 from __future__ import annotations
 
+import functools
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -92,6 +96,42 @@ def stepper_call_ratio(model, calls=5_000, rounds=28):
                                       f"{bare_time / calls * 1e9:.0f} ns per call")
 
 
+def stepper_scalar_ratio(model, scalar=np.float64, calls=5_000, rounds=28):
+    """``Stepper.advance`` with NumPy scalars over the same call with floats; ``(ratio, detail)``.
+
+    The same samples as :func:`stepper_call_ratio`, once as Python floats
+    and once as ``scalar`` (``np.float64``: what indexing an array gives),
+    each pass a stepper of its own; the detail says whether the scalars give
+    the forces of their values as floats, bit for bit (one untimed run of
+    each).
+    """
+    from polind.stepper import Stepper
+
+    path = bench_path(calls + 1)
+    floats = (path.t[1:].tolist(), path.x[1:].tolist())
+    scalars = tuple(list(np.asarray(values, dtype=scalar)) for values in (path.t[1:],
+                                                                           path.x[1:]))
+    steppers = [Stepper(model) for _ in range(2 * (rounds + 1))]
+
+    def timed(times, positions):
+        def run():
+            advance = steppers.pop().advance
+            for t, x in zip(times, positions):
+                advance(t, x=x)
+        return run
+
+    def forces(times, positions):
+        advance = Stepper(model).advance
+        return np.array([advance(t, x=x) for t, x in zip(times, positions)])
+
+    same = np.array_equal(forces(*([float(value) for value in values] for values in scalars)),
+                          forces(*scalars))
+    float_time, scalar_time = _interleaved([timed(*floats), timed(*scalars)], rounds)
+    return scalar_time / float_time, (f"{scalar_time / calls * 1e9:.0f} ns vs "
+                                      f"{float_time / calls * 1e9:.0f} ns per call; forces "
+                                      f"{'the same' if same else 'DIFFERENT'}")
+
+
 def _moving_pushes(model, steps):
     """Forces that keep a 1 kg body sliding at 1 kHz: 1.5 times its steady force at 1 cm/s, in
     a slow square wave (it reverses every 100 steps, so it sticks briefly and breaks away)."""
@@ -142,6 +182,38 @@ def body_call_ratio(model, steps=2_000, rounds=17):
     return body_time / bare_time, (f"{body_time / steps * 1e9:.0f} ns vs "
                                    f"{bare_time / steps * 1e9:.0f} ns per call; the compiled "
                                    f"step alone {compiled_time / steps * 1e9:.0f} ns")
+
+
+def body_scalar_ratio(model, scalar=np.float64, steps=2_000, rounds=17):
+    """A moving ``Body.step`` with a NumPy scalar force over a float one; ``(ratio, detail)``.
+
+    The pushes of :func:`body_call_ratio`, once as Python floats and once as
+    ``scalar``, each pass a body of its own; the detail says whether the
+    scalars give the steps of their values as floats, bit for bit (one
+    untimed run of each).
+    """
+    from polind.stepper import Body
+
+    pushes = _moving_pushes(model, steps)
+    floats, scalars = pushes.tolist(), list(np.asarray(pushes, dtype=scalar))
+    bodies = [Body(model, time_step=1e-3) for _ in range(2 * (rounds + 1))]
+
+    def timed(forces):
+        def run():
+            step = bodies.pop().step
+            for force in forces:
+                step(force)
+        return run
+
+    def steps_of(forces):
+        step = Body(model, time_step=1e-3).step
+        return np.array([step(force) for force in forces])
+
+    same = np.array_equal(steps_of([float(force) for force in scalars]), steps_of(scalars))
+    float_time, scalar_time = _interleaved([timed(floats), timed(scalars)], rounds)
+    return scalar_time / float_time, (f"{scalar_time / steps * 1e9:.0f} ns vs "
+                                      f"{float_time / steps * 1e9:.0f} ns per call; steps "
+                                      f"{'the same' if same else 'DIFFERENT'}")
 
 
 def batch_step_ratio(model, count=64, steps=2_000, rounds=5):
@@ -332,38 +404,81 @@ def varying_load_ratios(samples=100_000, calls=10_000, body_steps=3_000, rounds=
     return out
 
 
-def run_ratios(progress=None):
-    """Every ratio row (about half a minute); ``progress(row)`` is called after each."""
-    rows = []
+@dataclass(frozen=True)
+class RatioSpec:
+    """One ratio row before it is measured: its name, target, and how it is measured."""
 
-    def add(name, result, target, at_most):
-        rows.append(RatioRow(name, result[0], target, at_most, result[1]))
+    name: str
+    target: float
+    at_most: bool
+    measure: Callable[[], tuple[float, str]]     # () -> (ratio, detail)
+
+
+def ratio_specs():
+    """Every ratio row of :func:`run_ratios`, in its order, without measuring any.
+
+    The models are built when a row is measured; the three varying-load rows
+    share one measurement (:func:`varying_load_ratios`, taken once per list).
+    """
+    specs = []
+
+    def add(name, measure, target, at_most=True):
+        specs.append(RatioSpec(name, target, at_most, measure))
+
+    for label, model, target in (("LuGre", LuGre.example, 3.0),
+                                 ("Pol-Ind (64)", PolInd.example, 3.0),
+                                 ("GMS, 64 elements", lambda: GMS.example(elements=64), 8.0)):
+        add(f"Stepper.advance / bare numba call: {label}",
+            lambda model=model: stepper_call_ratio(model()), target)
+    for label, model in (("LuGre", LuGre.example), ("Pol-Ind (64)", PolInd.example)):
+        add(f"moving Body.step / bare numba call: {label}",
+            lambda model=model: body_call_ratio(model()), 5.0)
+    # NumPy scalars (what indexing an array gives) cost what floats do (issue 38).
+    for label, model in (("LuGre", LuGre.example), ("Pol-Ind (64)", PolInd.example)):
+        add(f"Stepper.advance np.float64 / float arguments: {label}",
+            lambda model=model: stepper_scalar_ratio(model()), 1.2)
+    for label, model in (("LuGre", LuGre.example), ("Pol-Ind (64)", PolInd.example)):
+        add(f"Body.step np.float64 / float argument: {label}",
+            lambda model=model: body_scalar_ratio(model()), 1.2)
+    for label, model in (("LuGre", LuGre.example), ("Pol-Ind (64)", PolInd.example)):
+        add(f"BodyBatch / simulate_system per body-step: {label}",
+            lambda model=model: batch_step_ratio(model()), 2.0)
+    add("bare loop / simulate: Maxwell-slip, 64 elements",
+        lambda: maxwell_slip_simulate_ratio(64, 1_000_000), 0.7, False)
+    add("bare loop / simulate: Maxwell-slip, 1024 elements",
+        lambda: maxwell_slip_simulate_ratio(1024, 200_000), 1.0, False)
+    add("bare loop / simulate: LuGre", lugre_simulate_ratio, 1.0, False)
+
+    def gms():
+        model = GMS.example(elements=1024).with_params(viscous_coefficient=0.0)
+        return gms_simulate_ratio(model, model.params)
+
+    def pol_ind():
+        model = PolInd.example(elements=1024)
+        return gms_simulate_ratio(model, model.gms_parameters())
+
+    add("plain math.exp loop / simulate: GMS, 1024 elements", gms, 5.0, False)
+    add("plain math.exp loop / simulate: Pol-Ind, 1024 elements", pol_ind, 5.0, False)
+    varying = functools.cache(varying_load_ratios)
+    for where in ("simulate", "Stepper", "Body"):
+        add(f"varying / constant load: Pol-Ind (64) in {where}",
+            lambda where=where: varying()[where], 2.0)
+    return specs
+
+
+def run_ratios(progress=None, only=None):
+    """Every ratio row (about half a minute); ``progress(row)`` is called after each.
+
+    ``only``: the rows whose name contains one of these strings (default: all).
+    """
+    rows = []
+    for spec in ratio_specs():
+        if only is not None and not any(part in spec.name for part in only):
+            continue
+        value, detail = spec.measure()
+        rows.append(RatioRow(spec.name, value, spec.target, spec.at_most, detail))
         if progress is not None:
             progress(rows[-1])
-
-    for label, model, target in (("LuGre", LuGre.example(), 3.0),
-                                 ("Pol-Ind (64)", PolInd.example(), 3.0),
-                                 ("GMS, 64 elements", GMS.example(elements=64), 8.0)):
-        add(f"Stepper.advance / bare numba call: {label}", stepper_call_ratio(model), target,
-            True)
-    for label, model in (("LuGre", LuGre.example()), ("Pol-Ind (64)", PolInd.example())):
-        add(f"moving Body.step / bare numba call: {label}", body_call_ratio(model), 5.0, True)
-    for label, model in (("LuGre", LuGre.example()), ("Pol-Ind (64)", PolInd.example())):
-        add(f"BodyBatch / simulate_system per body-step: {label}", batch_step_ratio(model),
-            2.0, True)
-    add("bare loop / simulate: Maxwell-slip, 64 elements",
-        maxwell_slip_simulate_ratio(64, 1_000_000), 0.7, False)
-    add("bare loop / simulate: Maxwell-slip, 1024 elements",
-        maxwell_slip_simulate_ratio(1024, 200_000), 1.0, False)
-    add("bare loop / simulate: LuGre", lugre_simulate_ratio(), 1.0, False)
-    gms = GMS.example(elements=1024).with_params(viscous_coefficient=0.0)
-    pol_ind = PolInd.example(elements=1024)
-    add("plain math.exp loop / simulate: GMS, 1024 elements",
-        gms_simulate_ratio(gms, gms.params), 5.0, False)
-    add("plain math.exp loop / simulate: Pol-Ind, 1024 elements",
-        gms_simulate_ratio(pol_ind, pol_ind.gms_parameters()), 5.0, False)
-    for where, result in varying_load_ratios().items():
-        add(f"varying / constant load: Pol-Ind (64) in {where}", result, 2.0, True)
     return rows
 
 

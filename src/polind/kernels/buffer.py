@@ -195,6 +195,14 @@ def body_sample(stepper, force_function, buffer, normal_load, applied_force):
 
 # --- the Python side ---------------------------------------------------------------------
 
+#: NumPy's real scalar types: numba takes ``float()`` of one for a runner's float argument
+#: (``PyNumber_Float``), the number polind.validation.check_number takes, so
+#: :class:`polind.Stepper` and :class:`polind.Body` pass one as it is.
+NUMPY_REALS = frozenset(kind for kind in np.sctypeDict.values()
+                        if issubclass(kind, (np.integer, np.floating))
+                        and not issubclass(kind, np.timedelta64))
+
+
 def _placed(cursor, base, offset):
     """The first index at or after ``cursor`` whose address lies ``offset`` bytes into a page."""
     within = (base + offset // 8) % _PAGE
