@@ -246,6 +246,40 @@ def batch_step_ratio(model, count=64, steps=2_000, rounds=5):
                                     f"per body-step ({count} bodies)")
 
 
+def structure_step_ratio(model, steps=100_000, rounds=5):
+    """A structure step (two masses, ``model`` as the joint between them) over a ``simulate_system`` step.
+
+    The first mass (1 kg, on a 1 kN/m spring) is pushed by a 5 Hz sine of
+    twice the joint's sliding force, the second (0.5 kg) hangs on the joint;
+    against ``simulate_system`` of one 1 kg body on the same model pushed by
+    the same sine; both at 10 kHz; ``(ratio, detail)``.
+    """
+    from polind.dynamics import System, simulate_system
+    from polind.structures import Structure, simulate_structure
+
+    h = 1e-4
+    t = np.arange(steps + 1) * h
+    amplitude = 2.0 * float(model.force_scale())
+    force = np.zeros((steps + 1, 2))
+    force[:, 0] = amplitude * np.sin(2 * np.pi * 5.0 * t)
+    structure = Structure(mass=np.diag([1.0, 0.5]), stiffness=[[1e3, 0.0], [0.0, 0.0]])
+    structure.add_contact(model, dofs=(0, 1))
+    system = System(mass=1.0, duration=steps * h, time_step=h, amplitude=amplitude,
+                    frequency=5.0)
+
+    def structure_run():
+        simulate_structure(structure, t, force=force)
+
+    def system_run():
+        simulate_system(model, system)
+
+    structure_time, system_time = _interleaved([structure_run, system_run], rounds)
+    per_structure = structure_time / steps
+    per_system = system_time / (system.times.shape[0] - 1)
+    return per_structure / per_system, (f"{per_structure * 1e9:.0f} ns vs "
+                                        f"{per_system * 1e9:.0f} ns per step")
+
+
 def _simulate_ratio(model, reference, samples, rounds):
     """``reference_time / simulate_time`` on the benchmark sinusoid; ``(ratio, detail)``.
 
@@ -443,6 +477,9 @@ def ratio_specs():
     for label, model in (("LuGre", LuGre.example), ("Pol-Ind (64)", PolInd.example)):
         add(f"BodyBatch / simulate_system per body-step: {label}",
             lambda model=model: batch_step_ratio(model()), 2.0)
+    # A structure (issue 38): a 64-element joint between two masses.
+    add("structure step / simulate_system step: Maxwell-slip joint, 64 elements",
+        lambda: structure_step_ratio(MaxwellSlip.example(elements=64)), 3.0)
     add("bare loop / simulate: Maxwell-slip, 64 elements",
         lambda: maxwell_slip_simulate_ratio(64, 1_000_000), 0.7, False)
     add("bare loop / simulate: Maxwell-slip, 1024 elements",
