@@ -125,6 +125,9 @@ def test_every_ratio_row_has_a_target_and_the_numpy_scalar_rows_are_there():
                      f"Body.step np.float64 / float argument: {label}"):
             assert by_name[name].target == 1.2 and by_name[name].at_most
     assert names.index("Stepper.advance / bare numba call: LuGre") == 0   # the order kept
+    # a structure step with one 64-element joint: at most 3 simulate_system steps (issue 38)
+    structure = by_name["structure / simulate_system step: 64-element MS joint"]
+    assert structure.target == 3.0 and structure.at_most
 
 
 def test_run_ratios_runs_the_rows_asked_for(monkeypatch):

@@ -478,7 +478,7 @@ def ratio_specs():
         add(f"BodyBatch / simulate_system per body-step: {label}",
             lambda model=model: batch_step_ratio(model()), 2.0)
     # A structure (issue 38): a 64-element joint between two masses.
-    add("structure step / simulate_system step: Maxwell-slip joint, 64 elements",
+    add("structure / simulate_system step: 64-element MS joint",
         lambda: structure_step_ratio(MaxwellSlip.example(elements=64)), 3.0)
     add("bare loop / simulate: Maxwell-slip, 64 elements",
         lambda: maxwell_slip_simulate_ratio(64, 1_000_000), 0.7, False)
