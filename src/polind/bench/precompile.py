@@ -16,20 +16,21 @@ does (:func:`_setups`): as it is and behind a series spring
 the second run of a fit or a sweep).  Adding a driver is one entry of
 :data:`DRIVERS`: a name and a function of the model.
 
-With several processes (:func:`run_precompile`) the tasks are split into
-:func:`families` by the runner modules their variants compile
+The tasks run in the calling process until one compiles something; then
+the rest is shared out (:func:`run_precompile`) in groups of
+:func:`families`, split by the runner modules their variants compile
 (:data:`polind.kernels.generate.MODELS`; Coulomb and Stribeck share theirs,
-Pol-Ind's variants its fixed-load one), each family run in one process, so
+Pol-Ind's variants its fixed-load one), each group run in one process, so
 no two processes compile the same runner.  The helpers of
 :mod:`polind.kernels` that every runner calls may still be compiled in two
 processes at once, and numba saves a function's signatures in one index
 file that it reads, extends and replaces: two processes saving different
 signatures of one function at once could lose one, or pair an index entry
-with the other's data file.  So each worker saves to the cache under one
+with the other's data file.  So every process saves to the cache under one
 file lock (:func:`_lock_cache_saves`): the compilations run side by side,
-only the milliseconds of each save in turn.  The workers are spawned (fresh
-interpreters), so a script that calls :func:`run_precompile` with several
-``jobs`` needs the usual ``if __name__ == "__main__":`` guard.
+only the milliseconds of each save in turn.  The other processes are
+spawned (fresh interpreters), so a script that calls :func:`run_precompile`
+with several ``jobs`` needs the usual ``if __name__ == "__main__":`` guard.
 """
 
 from __future__ import annotations
@@ -142,6 +143,17 @@ def _simulate_v(model):
             simulate(setup, t, v=v, normal_load=loads)
 
 
+def _path(model):
+    """The plain path runner (:meth:`polind.models.kernel.StepKernel.run`, unmounted): what
+    the element fits run (:func:`polind.identify_maxwell_slip`, the structured starts of a
+    Maxwell-slip or GMS fit, the demo's), and ``polind bench``."""
+    from polind.simulation import make_path
+
+    t, x, _, _ = _motion()
+    for _ in range(2):
+        model._advance(make_path(t, x=x), model.initial_state(), None)
+
+
 def _stepper(model):
     from polind.stepper import Stepper
 
@@ -207,6 +219,7 @@ def _simulate_system(model):
 DRIVERS = {
     "simulate-x": _simulate_x,
     "simulate-v": _simulate_v,
+    "path": _path,
     "Stepper": _stepper,
     "Body": _body,
     "BodyBatch": _body_batch,
