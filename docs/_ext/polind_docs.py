@@ -555,7 +555,7 @@ MODULES = (
     ("Compiled kernels", ("polind.kernels.contract", "polind.kernels.template",
                           "polind.kernels.generate", "polind.kernels.mount",
                           "polind.kernels.series", "polind.kernels.dynamics",
-                          "polind.kernels.structure",
+                          "polind.kernels.structure", "polind.kernels.periodic",
                           "polind.kernels.buffer",
                           "polind.kernels.elements", "polind.kernels.greenwood",
                           "polind.kernels.separation", "polind.kernels.plastic",
