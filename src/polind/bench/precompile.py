@@ -215,6 +215,31 @@ def _simulate_system(model):
             simulate_system(setup, system, method="euler")
 
 
+def _structure(model):
+    """A structure of two coordinates: the model as a joint, and to the ground (at its own load)."""
+    import numpy as np
+
+    from polind.structures import Structure, simulate_structure
+
+    t = np.arange(SAMPLES) * 1e-4
+    force = np.zeros((SAMPLES, 2))
+    force[:, 0] = _applied_force(model)
+    for setup, _ in _setups(model)[:2]:
+        structure = Structure(mass=np.diag([1e-3, 2e-3]))
+        structure.add_contact(setup, dofs=(0, 1))
+        structure.add_contact(setup, dofs=(1,))
+        simulate_structure(structure, t, force=force)
+
+
+def _period(model):
+    """A contact's periodic steady state (the hook of harmonic balance), spring or not."""
+    from polind.structures import contact_period
+
+    _, x, _, _ = _motion()
+    for setup, _ in _setups(model)[:2]:
+        contact_period(setup, x[:32], 1e-3, cycles=3, tolerance=1e300)
+
+
 #: Every driver ``precompile`` runs each model through: ``{name: function(model)}``.
 DRIVERS = {
     "simulate-x": _simulate_x,
@@ -224,6 +249,8 @@ DRIVERS = {
     "Body": _body,
     "BodyBatch": _body_batch,
     "simulate_system": _simulate_system,
+    "simulate_structure": _structure,
+    "contact_period": _period,
 }
 
 

@@ -28,8 +28,8 @@ def _names(values) -> list:
                    "(e.g. --models lugre,gms). Default: every one.")
 @click.option("--drivers", "drivers", multiple=True, metavar="NAMES",
               help="Run only these drivers, comma-separated or repeated: simulate-x, "
-                   "simulate-v, path, Stepper, Body, BodyBatch, simulate_system. Default: "
-                   "every one.")
+                   "simulate-v, path, Stepper, Body, BodyBatch, simulate_system, "
+                   "simulate_structure, contact_period. Default: every one.")
 @click.option("--jobs", "-j", "jobs", type=click.IntRange(min=1), default=None, metavar="N",
               help="Compile in N processes side by side. Default: the number of CPUs.")
 @click.option("--quiet", "-q", is_flag=True, help="Print nothing (errors still go to standard "
@@ -43,8 +43,9 @@ def precompile(models, drivers, jobs, quiet):
     starts as fast as the next. Each built-in model (Pol-Ind statistical,
     at its fixed load and elastic-plastic) runs on a tiny input through
     simulate (positions and velocities), the plain path of the element fits,
-    Stepper, Body, BodyBatch and simulate_system, each as it is and behind a
-    series spring, at its own load and at a varying one. The cache is numba's (NUMBA_CACHE_DIR when
+    Stepper, Body, BodyBatch, simulate_system, simulate_structure and
+    contact_period, each as it is and behind a series spring, at its own
+    load and at a varying one. The cache is numba's (NUMBA_CACHE_DIR when
     set, else beside polind's sources or numba's user-wide folder). Once
     something needs compiling the models are shared out among --jobs
     processes; a cache that already holds everything is only loaded, in
