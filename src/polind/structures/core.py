@@ -54,12 +54,18 @@ def _matrix(name, value, size=None):
     if size is not None and array.shape[0] != size:
         raise InputError(f"The '{name}' matrix of Structure must be {size} x {size}, the "
                          f"shape of 'mass'. Got {array.shape[0]} x {array.shape[1]} instead.")
+    _refuse_non_finite(array, f"The '{name}' matrix of Structure",
+                       lambda i, j: f"at [{i}, {j}]")
+    return array
+
+
+def _refuse_non_finite(array, owner, where):
+    """InputError for the first non-finite entry of a 2-D ``array``: ``owner``, the value, ``where(i, j)``."""
     bad = np.argwhere(~np.isfinite(array))
     if bad.size:
         i, j = bad[0]
-        raise InputError(f"The '{name}' matrix of Structure must be finite. Got "
-                         f"{float(array[i, j])!r} at [{i}, {j}] instead.")
-    return array
+        raise InputError(f"{owner} must be finite. Got {float(array[i, j])!r} {where(i, j)} "
+                         f"instead.")
 
 
 def _symmetric(name, array):
@@ -249,11 +255,8 @@ def _applied(force, t, n):
         if array.shape != (t.shape[0], n):
             raise InputError(f"The 'force' of simulate_structure must have shape "
                              f"(len(t), n) = ({t.shape[0]}, {n}). Got {array.shape} instead.")
-    bad = np.argwhere(~np.isfinite(array))
-    if bad.size:
-        k, i = bad[0]
-        raise InputError(f"The 'force' of simulate_structure must be finite. Got "
-                         f"{float(array[k, i])!r} at sample {k}, coordinate {i} instead.")
+    _refuse_non_finite(array, "The 'force' of simulate_structure",
+                       lambda k, i: f"at sample {k}, coordinate {i}")
     return np.ascontiguousarray(array)
 
 
