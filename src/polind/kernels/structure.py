@@ -22,38 +22,46 @@ contact sticks, as the body does) gives the linear part
 
 with ``r`` the known terms.  ``A`` is symmetric positive definite for a
 positive-definite ``M`` and positive semi-definite ``C``, ``K``.  The
-coordinates are condensed onto the contacts: with ``X = A^-1 [r, B^T]``,
-``G = B A^-1 B^T`` and ``H = G^-1``, the contact velocities solve
+coordinates are condensed onto the contacts: with ``G = B A^-1 B^T``
+(symmetric positive semi-definite: two contacts on one relative
+displacement make it singular) and ``w0 = B A^-1 r`` the velocities the
+contacts would have without their forces, the contact velocities solve
 
-    H w + F(w) = H w0,    w0 = B A^-1 r,
+    r(w) = w - w0 + G F(w) = 0.
 
-an ``m``-dimensional version of the body's ``inertia w + F(w) = known``:
-``H`` plays the inertia seen by the contacts.  One contact (the common
-joint, ``m = 1``) is one scalar equation, solved by the body's own
-safeguarded solver (:func:`polind.kernels.dynamics.solve_step`), Newton or
-secant steps on the contact's own trial and tangent, bracketed, with the
-exact stick of a set-valued contact and the rest of a contact whose
-balancing motion is below the rounding of its coordinates.  Several
-contacts are solved by nonlinear block Gauss–Seidel: each sweep solves each
-contact's scalar equation with the others' velocities held, which converges
-for a symmetric positive-definite ``H`` and contact forces non-decreasing in
-their own velocity (every Maxwell-slip-family contact), and stops when the
-whole residual is below the solver's tolerance.  The coordinates' step
-velocities follow as ``W = A^-1 (r - B^T F)``; each coordinate is rounded
+One contact (the common joint, ``m = 1``) is one scalar equation,
+``(1 / G) w + F(w) = w0 / G``: the body's ``inertia w + F(w) = known``,
+solved by the body's own safeguarded solver
+(:func:`polind.kernels.dynamics.solve_step`), Newton or secant steps on the
+contact's own trial and tangent, bracketed, with the exact stick of a
+set-valued contact and the rest of a contact whose balancing motion is
+below the rounding of its coordinates.  Several contacts are solved by
+Newton on ``r`` with the Jacobian ``I + G diag(dF_c/dw_c)`` from each
+contact's own tangent (a step that does not lower the residual is halved),
+and where that does not converge, or a contact is set-valued, by nonlinear
+block Gauss–Seidel: each sweep solves each contact's scalar equation with
+the others' forces held, ``(1 / G_cc) w_c + F_c(w_c) = (w0_c - sum_{d != c}
+G_cd F_d) / G_cc``, which converges for contact forces non-decreasing in
+their own velocity (every Maxwell-slip-family contact) but slowly for
+stiff contacts in parallel; either stops when the whole residual is below
+the solver's tolerance.  The coordinates' step velocities follow as ``W = A^-1 (r - B^T F)``; each coordinate is rounded
 (``q_n + h W``) and each contact is committed along the increment of
 ``b_c q`` the rounded coordinates really make, so a contact's state follows
 the structure's own path exactly as ``simulate`` would advance it.
 
 A structure of one coordinate and one contact to the ground skips the
-condensation (``H = A``, ``H w0 = r``): it is a :class:`polind.Body` driven
+condensation (``1 / G = A``, ``w0 / G = r``): it is a :class:`polind.Body` driven
 by the applied force, with the arithmetic of
 :func:`polind.kernels.dynamics.momentum_terms` (up to the contact's trial,
-which is the mounted one here).
+which is the mounted one here, where the bare body takes the model's
+read-only trial: for GMS the solver's iterations then differ, and the two
+agree to a few 1e-12 of the force range rather than bit for bit).
 
 Nothing here knows which model a contact runs: the contact enters through
-its runners' trial, commit and scalar solve (:mod:`polind.kernels.template`:
-``structure`` and ``mounted_structure``), and every contact of one structure
-shares one model family's runners.  Everything that does not call the model
+its runners' mounted trial, commit and scalar solve
+(:mod:`polind.kernels.template`: ``mounted_structure``; a rigid mount steps
+the bare contact), and every contact of one structure shares one model
+family's runners.  Everything that does not call the model
 is compiled once, here, for every model; the loop that calls it is inlined
 into each model's runners.
 """
@@ -260,8 +268,8 @@ def advance_coordinates(single, contacts, position, step, velocity_contact, free
 def integrate_structure_with(trial, commit, solve, arguments):
     """Integrate a structure over the samples ``start .. stop - 1`` (the module notes).
 
-    ``trial``, ``commit`` and ``solve`` are one model's runners (the mounted
-    ones or not: :mod:`polind.kernels.template`); ``solve`` is
+    ``trial``, ``commit`` and ``solve`` are one model's mounted runners
+    (:mod:`polind.kernels.template`); ``solve`` is
     :func:`polind.kernels.dynamics.solve_step` with the trial bound.
     ``arguments`` is the tuple ``(memoryless, rest_capacity, force_scale,
     mounts, scalars, scalar_bounds, tables, table_bounds, table_rows,

@@ -435,8 +435,7 @@ def _pack(contacts) -> _Packed:
                         for contact in contacts], dtype=np.int64)
     return _Packed(
         kernels=kernels,
-        run=runners.mounted_structure if any(k.mount is not None for k in kernels)
-        else runners.structure,
+        run=runners.mounted_structure,
         memoryless=np.array([0.0 if k.rest_capacity is None else 1.0 for k in kernels]),
         rest_capacity=np.array([0.0 if k.rest_capacity is None else float(k.rest_capacity)
                                 for k in kernels]),

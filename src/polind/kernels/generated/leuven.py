@@ -303,33 +303,24 @@ def mounted_body_buffer(buffer, normal_load, applied_force):
 
 
 @jit
-def solve(memoryless, rest_capacity, force_scale, mount, scalars, table, state, scratch,
-          inertia, known, guess, step, position, sample_slope, sample_offset, normal_load):
-    """:func:`polind.kernels.dynamics.solve_step` of the model's :func:`trial`: ``(w, held, F, written)``."""
-    return solve_step(trial, model_tangent, memoryless, rest_capacity, force_scale, mount,
-                      scalars, table, state, scratch, inertia, known, guess, step, position,
-                      sample_slope, sample_offset, normal_load, False)
-
-
-@jit
 def mounted_solve(memoryless, rest_capacity, force_scale, mount, scalars, table, state, scratch,
                   inertia, known, guess, step, position, sample_slope, sample_offset,
                   normal_load):
-    """:func:`solve` of the mounted contact's :func:`mounted_body_trial`."""
+    """:func:`polind.kernels.dynamics.solve_step` of :func:`mounted_body_trial`: ``(w, held, F, written)``."""
     return solve_step(mounted_body_trial, model_tangent, memoryless, rest_capacity, force_scale,
                       mount, scalars, table, state, scratch, inertia, known, guess, step,
                       position, sample_slope, sample_offset, normal_load, False)
 
 
 @jit
-def structure(arguments):
-    """:func:`polind.kernels.structure.integrate_structure_with` of contacts with nothing around them."""
-    integrate_structure_with(trial, commit, solve, arguments)
-
-
-@jit
 def mounted_structure(arguments):
-    """:func:`polind.kernels.structure.integrate_structure_with` of mounted contacts."""
+    """:func:`polind.kernels.structure.integrate_structure_with` of mounted contacts (rigid or not).
+
+    One runner for every contact: a rigid mount (``k_s = inf``) steps the
+    bare contact (:func:`mounted_step`).  A runner of the bare trial as well
+    would give a rigid contact the model's read-only trial, at the cost of
+    compiling the structure loop twice per model (some 4 s each).
+    """
     integrate_structure_with(mounted_body_trial, mounted_body_commit, mounted_solve, arguments)
 
 
