@@ -192,8 +192,6 @@ def sample_times(t):
     return _check_time(_converted("t", t))
 
 
-_time = sample_times
-
 
 def _check_time(t):
     """``t`` if finite, at least 2 and strictly increasing; InputError naming the first bad one."""
@@ -260,7 +258,7 @@ class _SteppedMotion:
         self.name = "x" if x is not None else "v"
         given = x if x is not None else v
         if validate:
-            self.t = _time(t)
+            self.t = sample_times(t)
             n = self.t.shape[0]
             self.motion = _converted(self.name, given, n)
             self.source_t, self.source_motion = self.t, self.motion

@@ -436,9 +436,11 @@ def integrate_structure_with(trial, commit, solve, arguments):
             c_scalars, c_table, c_state = contact_arrays(
                 scalars, scalar_bounds, tables, table_bounds, table_rows, states,
                 state_bounds, c)
-            displacement = relative(contacts, c, new_position) - relative(contacts, c, q[k - 1])
             if single:
                 displacement = contacts[0, SIGN] * (new_position[0] - q[k - 1, 0])
+            else:
+                displacement = relative(contacts, c, new_position) \
+                    - relative(contacts, c, q[k - 1])
             contact_velocity = displacement / step
             sample_velocity = contact_velocity if memoryless[c] != 0.0 \
                 else relative(contacts, c, new_velocity)

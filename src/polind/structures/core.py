@@ -21,12 +21,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from polind.dynamics import initial_friction
 from polind.errors import InputError, describe
 from polind.kernels import dynamics as dynamics_kernel
 from polind.kernels.mount import N_MOUNT
 from polind.models import FrictionModel, State
 from polind.models.kernel import RIGID
-from polind.simulation import summary_repr
+from polind.simulation import sample_times, summary_repr
 
 __all__ = ["Structure", "StructureResult", "simulate_structure"]
 
@@ -277,12 +278,6 @@ def _vector(name, value, n):
     return array
 
 
-def _times(t):
-    from polind.simulation import sample_times
-
-    return sample_times(t)
-
-
 def simulate_structure(structure, t, *, force=None, initial_position=None,
                        initial_velocity=None, method="bdf2", progress=None) -> StructureResult:
     """Simulate a structure with friction contacts (:ref:`guide-structures`).
@@ -338,7 +333,7 @@ def simulate_structure(structure, t, *, force=None, initial_position=None,
     if not structure.contacts:
         raise InputError("The structure of simulate_structure has no contacts: add one with "
                          "Structure.add_contact(model, dofs).")
-    t = _times(t)
+    t = sample_times(t)
     n = structure.size
     applied = _applied(force, t, n)
     q0 = _vector("initial_position", initial_position, n)
@@ -352,7 +347,8 @@ def simulate_structure(structure, t, *, force=None, initial_position=None,
     q[0], dq[0] = q0, v0
     for c, kernel in enumerate(packed.kernels):
         velocity = float(_relative(structure.contacts[c], v0))
-        forces[0, c] = _first_friction(kernel, velocity)
+        # a set-valued contact at rest holds nothing yet, as a Body's first friction
+        forces[0, c] = initial_friction(kernel, velocity, 0.0)
     carry = np.concatenate([v0, [float(_relative(contact, v0)) for contact in
                                  structure.contacts], [0.0]])
     unconverged = np.zeros(1, dtype=np.int64)
@@ -386,13 +382,6 @@ def _relative(contact, values):
     return values[contact.first] - values[contact.second]
 
 
-def _first_friction(kernel, velocity):
-    """A contact's force at sample 0 (a set-valued contact at rest holds nothing yet)."""
-    if kernel.rest_capacity is not None and velocity == 0.0:
-        return 0.0
-    return kernel.first_force(velocity)
-
-
 @dataclass
 class _Packed:
     kernels: list
@@ -412,6 +401,11 @@ class _Packed:
     contacts: np.ndarray
 
 
+def kernel_family(kernel):
+    """What contacts of one structure must share: their runners and the rows of their table."""
+    return kernel.runners, kernel.table.shape[0]
+
+
 def _bounds(arrays):
     return np.concatenate([[0], np.cumsum([a.size for a in arrays])]).astype(np.int64)
 
@@ -419,10 +413,9 @@ def _bounds(arrays):
 def _pack(contacts) -> _Packed:
     """The contacts' kernels as the flat arrays of :func:`polind.kernels.structure.integrate_structure_with`."""
     kernels = [contact.model.step_kernel(fixed_load=True) for contact in contacts]
-    runners = kernels[0].runners
-    rows = kernels[0].table.shape[0]
+    runners, rows = kernel_family(kernels[0])
     for contact, kernel in zip(contacts, kernels):
-        if kernel.runners is not runners or kernel.table.shape[0] != rows:
+        if kernel_family(kernel) != (runners, rows):
             raise InputError(f"The contacts of a Structure must share one model family's "
                              f"kernels (today's limit of the structure driver). Got "
                              f"'{contacts[0].model.type}' and '{contact.model.type}' "
@@ -430,7 +423,6 @@ def _pack(contacts) -> _Packed:
     mounts = np.empty((len(kernels), N_MOUNT))
     for c, kernel in enumerate(kernels):
         mounts[c] = RIGID if kernel.mount is None else kernel.mount
-    table = np.ascontiguousarray
     rows_of = np.array([[contact.first, -1 if contact.second is None else contact.second, 1]
                         for contact in contacts], dtype=np.int64)
     return _Packed(
@@ -443,7 +435,7 @@ def _pack(contacts) -> _Packed:
         mounts=mounts,
         scalars=np.concatenate([k.scalars.reshape(-1) for k in kernels]),
         scalar_bounds=_bounds([k.scalars for k in kernels]),
-        tables=np.concatenate([table(k.table).reshape(-1) for k in kernels]),
+        tables=np.concatenate([k.table.reshape(-1) for k in kernels]),
         table_bounds=_bounds([k.table for k in kernels]),
         table_rows=int(rows),
         states=np.concatenate([k.state.reshape(-1) for k in kernels]),

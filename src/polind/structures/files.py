@@ -360,7 +360,7 @@ def structure_from_dict(document, base_dir="."):
     >>> structure
     Structure(1 coordinate, 1 contact: coulomb on (0, None))
     """
-    from polind.structures.core import Structure
+    from polind.structures.core import Structure, kernel_family
 
     if not isinstance(document, dict):
         _fail("structure", "a table ([structure])", document)
@@ -399,7 +399,7 @@ def structure_from_dict(document, base_dir="."):
     if not isinstance(contacts, list) or not contacts:
         _fail("structure.contacts", "a list of contact tables ([[structure.contacts]])",
               contacts)
-    runners = None
+    family = None
     for c, contact in enumerate(contacts):
         key = f"structure.contacts[{c}]"
         contact = _table(key, contact)
@@ -411,11 +411,11 @@ def structure_from_dict(document, base_dir="."):
         dofs = _dofs(f"{key}.dofs", contact["dofs"], n)
         model = _model(f"{key}.model", contact["model"], os.fspath(base_dir))
         kernel = _contact_kernel(f"{key}.model", model)
-        if runners is None:
-            runners, rows, family = kernel.runners, kernel.table.shape[0], model.type
-        elif kernel.runners is not runners or kernel.table.shape[0] != rows:
+        if family is None:
+            family, first_type = kernel_family(kernel), model.type
+        elif kernel_family(kernel) != family:
             raise InputError(f"key '{key}.model': a '{model.type}' contact cannot join the "
-                             f"'{family}' one of structure.contacts[0]: the contacts of a "
+                             f"'{first_type}' one of structure.contacts[0]: the contacts of a "
                              f"structure must share one model family's kernels (today's "
                              f"limit of the structure driver)")
         try:
