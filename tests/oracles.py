@@ -294,6 +294,34 @@ def _maxwell_slip(p, m):
     return OracleResult(m.t, m.x, m.v, force, {"element_force": elements})
 
 
+def _iwan4(p, m):
+    """The density of MODELS.md 12 cut into the cells polind grades (their edges are the
+    one choice taken from polind: ``innermost_edge`` and equal ratios above it), each cell
+    one element with the cell's integrals of rho and rho phi, the point mass one more;
+    then stepped as Maxwell-slip."""
+    from polind.models.iwan4 import innermost_edge
+
+    fs, kt, chi, beta = p["slip_force"], p["stiffness"], p["chi"], p["beta"]
+    n = p.get("elements", 64)
+    r = (chi + 1) / (chi + 2)
+    phi_max = fs * (1 + beta) / (kt * (beta + r))
+    big_r = fs * (chi + 1) / (phi_max ** (chi + 2) * (beta + r))
+    point = fs / phi_max * beta / (beta + r)
+    cells = n - 1 if beta > 0 else n
+    first = innermost_edge(chi, cells)
+    edges = [0.0] + [phi_max * first ** (1 - j / (cells - 1)) for j in range(cells)] \
+        if cells > 1 else [0.0, phi_max]
+    stiffness, breakaway = [], []
+    for a, b in zip(edges[:-1], edges[1:]):
+        stiffness.append(big_r * (b ** (chi + 1) - a ** (chi + 1)) / (chi + 1))
+        breakaway.append(big_r * (b ** (chi + 2) - a ** (chi + 2)) / (chi + 2))
+    if beta > 0:
+        stiffness.append(point)
+        breakaway.append(point * phi_max)
+    return _maxwell_slip({"stiffness": stiffness, "breakaway_force": breakaway,
+                          "viscous_coefficient": 0.0}, m)
+
+
 def _gms(p, m):
     k = [float(a) for a in p["stiffness"]]
     alpha = [float(a) for a in p["weight"]]
@@ -401,6 +429,7 @@ STEPPERS = {
     "maxwell-slip": _maxwell_slip,
     "gms": _gms,
     "leuven": _leuven,
+    "iwan4": _iwan4,
 }
 
 

@@ -28,7 +28,7 @@ def force_scale(inner):
     if inner["type"] == "pol-ind":
         return inner["static_coefficient"] * inner["normal_load"]
     return max(float(np.sum(inner.get(key, 0.0)))
-               for key in ("coulomb_force", "static_force", "breakaway_force"))
+               for key in ("coulomb_force", "static_force", "breakaway_force", "slip_force"))
 
 
 def assert_split_equal(got, want, what):

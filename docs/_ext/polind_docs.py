@@ -60,6 +60,7 @@ RANGES = {
     "any": "any finite number",
     "poisson": "−1 < ν ≤ 0.5",
     "fraction": "0 < value ≤ 1",
+    "iwan_exponent": "−1 < χ ≤ 0",
 }
 
 

@@ -25,6 +25,8 @@ BOUNDS = {
     # Outside (-1, 0.5] the elastic energy of an isotropic solid is not positive.
     "poisson": (lambda x: -1.0 < x <= 0.5, "in the range (-1, 0.5]"),
     "fraction": (lambda x: 0.0 < x <= 1.0, "in the range (0, 1]"),
+    # The exponent of an Iwan density phi^chi: integrable at 0 only for chi > -1.
+    "iwan_exponent": (lambda x: -1.0 < x <= 0.0, "in the range (-1, 0]"),
 }
 
 

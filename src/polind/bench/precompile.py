@@ -83,6 +83,8 @@ VARIANTS = {
     "pol-ind elastic-plastic": Variant("pol-ind", ("pol_ind_plastic", "pol_ind_fixed_load"), {
         "materials": {"youngs_modulus": [210e9, 210e9], "poisson_ratio": [0.3, 0.3],
                       "hardness": 2e9}}),
+    # Steps as Maxwell-slip: its runs compile nothing of their own (one group with it).
+    "iwan4": Variant("iwan4", ("maxwell_slip",)),
 }
 
 

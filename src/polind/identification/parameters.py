@@ -38,6 +38,7 @@ _KIND_BOUNDS = {
     "any": (-math.inf, math.inf),
     "poisson": (-1.0 + 1e-9, 0.5 - 1e-9),
     "fraction": (1e-12, 1.0),
+    "iwan_exponent": (-1.0 + 1e-9, 0.0),
 }
 # Largest |log change| a log-scaled parameter may take (keeps exp() finite and positive).
 _LOG_LIMIT = 600.0
