@@ -173,11 +173,12 @@ def _stribeck_loop(p):
 #: The plain NumPy loop of each model type, as ``prepare(model) -> reference(path) ->
 #: forces`` (``prepare`` reads the parameters once, outside the timing).  At its constant
 #: load Pol-Ind is the GMS of its element table (:ref:`guide-pol-ind-law`), so its loop is
-#: GMS's on its equivalent GMS parameters.
+#: GMS's on its equivalent GMS parameters; iwan4 is the Maxwell-slip of its element table.
 NUMPY_REFERENCES = {
     "maxwell-slip": lambda model: _maxwell_slip_loop(model.params),
     "gms": lambda model: _gms_loop(model.params),
     "pol-ind": lambda model: _gms_loop(model.equivalent_gms().params),
+    "iwan4": lambda model: _maxwell_slip_loop(model.to_maxwell_slip().params),
     "leuven": lambda model: _leuven_loop(model.params),
     "lugre": lambda model: _lugre_loop(model.params),
     "dahl": lambda model: _dahl_loop(model.params),
