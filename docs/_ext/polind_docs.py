@@ -497,7 +497,8 @@ API_GROUPS = (
                                        "simulate_system")),
     ("Identification", ("identify", "FitResult", "identify_maxwell_slip", "identify_gms",
                         "identify_stribeck", "compare", "Comparison")),
-    ("Structures", ("Structure", "StructureResult", "simulate_structure", "load_structure")),
+    ("Structures", ("Structure", "StructureResult", "simulate_structure", "load_structure",
+                    "hysteresis_loop", "HysteresisLoop")),
     ("Sweeps", ("sweep", "SweepSummary")),
     ("Errors", ("InputError",)),
 )

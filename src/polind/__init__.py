@@ -21,7 +21,8 @@ __all__ = ["InputError", "ValidityWarning", "MODEL_TYPES", "FrictionModel", "Sta
            "BodyBatch", "load_model", "model_from_dict", "save_model", "simulate", "System", "SystemResult",
            "load_system", "simulate_system", "identify", "FitResult",
            "identify_maxwell_slip", "identify_gms", "identify_stribeck", "compare", "Comparison",
-           "sweep", "SweepSummary", "Structure", "StructureResult", "simulate_structure", "load_structure"]
+           "sweep", "SweepSummary", "Structure", "StructureResult", "simulate_structure", "load_structure",
+           "hysteresis_loop", "HysteresisLoop"]
 __version__ = "0.1.0"
 
 # Every export but InputError is imported on first use (PEP 562), so that
@@ -45,7 +46,8 @@ _LAZY = {"MODEL_TYPES": "polind.models", "FrictionModel": "polind.models",
          "load_system": "polind.dynamics", "simulate_system": "polind.dynamics",
          "sweep": "polind.sweeps", "SweepSummary": "polind.sweeps",
          "Structure": "polind.structures", "StructureResult": "polind.structures",
-         "simulate_structure": "polind.structures", "load_structure": "polind.structures"}
+         "simulate_structure": "polind.structures", "load_structure": "polind.structures",
+         "hysteresis_loop": "polind.structures", "HysteresisLoop": "polind.structures"}
 
 
 def __getattr__(name):

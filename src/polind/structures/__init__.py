@@ -7,13 +7,16 @@ reads a structure file (:ref:`formats-structure`) into a structure and its
 run (:class:`polind.structures.StructureRun`); :func:`polind.structures.plot_structure`
 draws a result; :func:`polind.structures.contact_period` is a contact's periodic
 steady state along one period of a motion (the periodic evaluation harmonic
-balance builds on, :mod:`polind.kernels.periodic`).
+balance builds on, :mod:`polind.kernels.periodic`); :func:`polind.hysteresis_loop`
+gives the energy per cycle, secant stiffness and damping ratio of a record's last
+closed loop.
 """
 
 from polind.structures.core import Structure, StructureResult, simulate_structure
 from polind.structures.periodic import ContactPeriod, contact_period
 from polind.structures.files import StructureRun, load_structure, structure_from_dict
+from polind.structures.loops import HysteresisLoop, hysteresis_loop
 from polind.structures.plot import plot_structure
 
-__all__ = ["ContactPeriod", "contact_period", "Structure", "StructureResult", "StructureRun", "load_structure", "plot_structure",
+__all__ = ["ContactPeriod", "contact_period", "HysteresisLoop", "hysteresis_loop", "Structure", "StructureResult", "StructureRun", "load_structure", "plot_structure",
            "simulate_structure", "structure_from_dict"]
