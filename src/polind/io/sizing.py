@@ -4,10 +4,12 @@
 its first bytes or its metadata, without reading it all (and without opening
 a pipe, whose data would be lost); :func:`check_table_memory` refuses, with an
 :class:`~polind.errors.InputError` naming the file, a table whose reading and
-use would pass :func:`polind.resources.memory_limit`.  :func:`header_line`
-finds a CSV file's header in its first :data:`HEADER_BYTES`, for the sizes
-here and for the fast reader of :mod:`polind.io.tables`, and
-:func:`guess_delimiter` its field separator.
+use would pass :func:`polind.resources.memory_limit`.  :func:`read_header`
+finds a CSV file's header in its first bytes (:func:`header_line`), for the
+sizes here and for the fast reader of :mod:`polind.io.tables`, and
+:func:`guess_delimiter` its field separator.  A row may be of any length,
+and a file may end in the NUL padding of a preallocated file
+(:func:`polind.io.text.padding_start`): neither is a row.
 """
 
 from __future__ import annotations
@@ -17,13 +19,15 @@ import os
 import stat
 
 from polind.io.columns import is_parquet
+from polind.io.text import padding_start
 from polind.resources import check_memory
 
-__all__ = ["DELIMITERS", "HEADER_BYTES", "READ_BYTES_PER_NUMBER", "SAMPLES",
-           "check_table_memory", "guess_delimiter", "header_line", "table_size"]
+__all__ = ["DELIMITERS", "HEADER_BYTES", "MAX_HEADER_BYTES", "READ_BYTES_PER_NUMBER",
+           "SAMPLES", "check_table_memory", "guess_delimiter", "header_line", "read_header",
+           "table_size"]
 
 
-#: A CSV file's header must lie in its first bytes, for its size and for the fast reader.
+#: The first bytes of a CSV file read for its header (more when the header is longer).
 HEADER_BYTES = 1 << 16
 
 
@@ -84,16 +88,45 @@ def guess_delimiter(header: str) -> str:
 READ_BYTES_PER_NUMBER = 24
 
 
+def read_header(stream, end: int):
+    """``(prefix, header)``: a binary stream's first bytes and :func:`header_line` of them.
+
+    ``end`` is where the file's data end (:func:`polind.io.text.padding_start`).
+    The prefix is the first :data:`HEADER_BYTES`, or more, doubling, until it
+    holds the whole header (a wide file's header may be longer), up to
+    :data:`MAX_HEADER_BYTES`; it never reaches past ``end``.  ``header`` is
+    None when no header ends within it or it is not UTF-8.
+    """
+    stream.seek(0)
+    prefix = stream.read(min(HEADER_BYTES, end))
+    header = header_line(prefix)
+    while header is None and HEADER_BYTES <= len(prefix) < min(end, MAX_HEADER_BYTES):
+        more = stream.read(min(len(prefix), end - len(prefix), MAX_HEADER_BYTES - len(prefix)))
+        if not more:
+            break                                 # the file shrank: its reader tells
+        prefix += more
+        header = header_line(prefix)
+    return prefix, header
+
+
+#: The most of a file's start :func:`read_header` reads to find its header [bytes].
+MAX_HEADER_BYTES = 1 << 24
+
+
 def table_size(path) -> tuple[int, int, bool]:
     """``(rows, columns, exact)`` of a CSV or Parquet table, without reading all of it.
 
     A Parquet file's metadata gives them exactly.  A CSV file's columns are
-    those of its header, and its data rows are counted in a file of 64 KiB or
-    less; a bigger one's are its size over the shortest mean length of the
-    rows in its first 64 KiB and in ``SAMPLES`` stretches spread over
-    the rest of it (``exact`` False), so that long rows at its start do not
-    hide short ones after.  A file that cannot be read gives ``(0, 0, True)``:
-    its reader names the problem.
+    those of its header, and its data rows are counted in a file whose data
+    lie in its first bytes (:func:`read_header`); a bigger one's are its size
+    over the shortest mean length of the rows in its first bytes and in
+    ``SAMPLES`` stretches spread over the rest of it (``exact`` False), so
+    that long rows at its start do not hide short ones after.  A stretch
+    holds a few rows however long they are; where none holds a whole row,
+    the shortest a row can be (a digit and a delimiter a column) sizes it.
+    The NUL padding a preallocated file ends in is no rows
+    (:func:`polind.io.text.padding_start`).  A file that cannot be read
+    gives ``(0, 0, True)``: its reader names the problem.
     """
     name = os.fspath(path)
     if is_parquet(name):
@@ -108,38 +141,49 @@ def table_size(path) -> tuple[int, int, bool]:
         if not stat.S_ISREG(os.stat(name).st_mode):
             return 0, 0, True        # a pipe is not opened twice (its data would be lost)
         with open(name, "rb") as stream:
-            size = os.fstat(stream.fileno()).st_size
-            prefix = stream.read(HEADER_BYTES)
-            header = header_line(prefix)
+            end = padding_start(stream, os.fstat(stream.fileno()).st_size)
+            prefix, header = read_header(stream, end)
             if header is None:
                 return 0, 0, True
-            stretches = [] if len(prefix) == size else \
-                _stretches(stream, header[2], size)
+            _, text, offset = header
+            body = prefix[offset:]
+            if len(prefix) == end:
+                lines = body.replace(b"\r\n", b"\n").replace(b"\r", b"\n").split(b"\n")
+                return sum(1 for line in lines if line.strip()), _columns(text), True
+            first = _mean_row(body)
+            # A stretch holds a few rows: longer ones than the header's or the first rows'.
+            length = max(_STRETCH_BYTES, 4 * len(text.encode("utf-8")), 4 * int(first or 0))
+            stretches = _stretches(stream, len(prefix), end, min(length, _MAX_STRETCH_BYTES))
     except OSError:
         return 0, 0, True
-    _, text, offset = header
-    columns = text.count(guess_delimiter(text)) + 1
-    body = prefix[offset:].replace(b"\r\n", b"\n").replace(b"\r", b"\n")
-    if len(prefix) == size:
-        return sum(1 for line in body.split(b"\n") if line.strip()), columns, True
-    # The shortest row is a digit and a comma per column: never fewer rows than that allows.
-    mean = min([_mean_row(body), *(_mean_row(stretch) for stretch in stretches)],
-               default=None) or 2.0 * columns
-    return math.ceil((size - offset) / mean), columns, False
+    columns = _columns(text)
+    means = [mean for mean in (first, *(_mean_row(stretch) for stretch in stretches))
+             if mean is not None]
+    # The shortest row is a digit and a delimiter per column: never fewer rows than that allows.
+    mean = min(means, default=2.0 * columns)
+    return math.ceil((end - offset) / mean), columns, False
 
 
-#: Stretches of a big CSV file, spread over it, whose rows size it (with its first 64 KiB).
+def _columns(header: str) -> int:
+    """The number of columns of a header line."""
+    return header.count(guess_delimiter(header)) + 1
+
+
+#: Stretches of a big CSV file, spread over it, whose rows size it (with its first bytes).
 SAMPLES = 16
 _STRETCH_BYTES = 1 << 12
+_MAX_STRETCH_BYTES = 1 << 20
 
 
-def _stretches(stream, offset, size) -> list[bytes]:
-    """``SAMPLES`` stretches of a file's bytes after ``offset``, evenly spread over it."""
+def _stretches(stream, start, end, length) -> list[bytes]:
+    """``SAMPLES`` stretches of ``length`` bytes of a file between ``start`` and ``end``,
+    evenly spread over it (the last ending at ``end``)."""
     out = []
-    span = max(size - offset - _STRETCH_BYTES, 0)
+    span = max(end - start - length, 0)
     for index in range(1, SAMPLES + 1):
-        stream.seek(offset + span * index // SAMPLES)
-        out.append(stream.read(_STRETCH_BYTES))
+        where = start + span * index // SAMPLES
+        stream.seek(where)
+        out.append(stream.read(min(length, end - where)))
     return out
 
 

@@ -12,7 +12,11 @@ instrument's file through it.
 
 Files are read as spreadsheets write them: a byte-order mark, ``\\r\\n`` line
 ends, blank lines (trailing or between rows) and numbers in double quotes
-(``"1.5"``) are read as lines and numbers.
+(``"1.5"``) are read as lines and numbers.  Rows may be of any length (an
+instrument's file of hundreds of channels).  The NUL bytes a preallocated
+logger file ends in are padding, not rows: the rows before them are read,
+and a last row they cut short (no line end before them) is refused, naming
+its row (:mod:`polind.io.text`).
 
 Big tables go at disk speed: pyarrow's C reader parses a CSV file of 1 MiB or
 more (Python's row-by-row reader takes any file it refuses, and names the bad
@@ -39,9 +43,9 @@ from polind.io.columns import (
     expected_columns,
     is_parquet,
 )
-from polind.io.sizing import (HEADER_BYTES, READ_BYTES_PER_NUMBER, check_table_memory,
-                               guess_delimiter, header_line)
-from polind.io.text import read_text
+from polind.io.sizing import (READ_BYTES_PER_NUMBER, check_table_memory, guess_delimiter,
+                               read_header)
+from polind.io.text import padding_start, read_text
 from polind.resources import check_memory
 
 __all__ = ["read_csv_columns", "read_heights_csv",
@@ -103,7 +107,7 @@ def _read_csv_carefully(name, select, expected, min_rows, delimiter=","):
     reference the fast reader must agree with.  ``delimiter`` None: guessed
     from the header; ``expected``: the columns in words, for an empty file.
     """
-    lines = read_text(name).split("\n")
+    lines = read_text(name, padded=True).split("\n")
     rows = [(number, line) for number, line in enumerate(lines, start=1) if line.strip()]
     if not rows:
         raise InputError(f"{name}: the file is empty; expected a header row with the columns "
@@ -140,7 +144,11 @@ def _read_csv_fast(name, select, delimiter=",", progress=None):
     any row pyarrow refuses (it parses numbers exactly as ``float`` does, but
     refuses more: whitespace, whitespace-only lines, ``1_000``...).  Truly
     empty lines are skipped, as the careful reader skips them; a field in
-    double quotes is read without them, as the careful reader reads it.
+    double quotes is read without them, as the careful reader reads it.  Rows
+    of any length are read, and only the columns kept are converted (a wide
+    instrument file goes at the speed of its bytes); the NUL padding of a
+    preallocated file is not read, and a last row it cuts short is left to
+    the careful reader, which names it.
     """
     try:
         # Looked at before opening: a pipe opened here would lose what it carries.
@@ -148,7 +156,12 @@ def _read_csv_fast(name, select, delimiter=",", progress=None):
         if not stat.S_ISREG(info.st_mode) or info.st_size < _FAST_READ_BYTES:
             return None
         with open(name, "rb") as stream:
-            header = header_line(stream.read(HEADER_BYTES))
+            end = padding_start(stream, info.st_size)    # the NUL padding is no rows
+            header = read_header(stream, end)[1]
+            if header is not None and header[2] < end < info.st_size:
+                stream.seek(end - 1)
+                if stream.read(1) not in (b"\n", b"\r"):
+                    return None                   # a row cut short: the careful reader names it
     except OSError:
         return None                               # the careful reader names the problem
     if header is None:
@@ -168,8 +181,15 @@ def _read_csv_fast(name, select, delimiter=",", progress=None):
     size = info.st_size
     batches = []
     try:
-        with pa.OSFile(name, "r") as source:
-            source.seek(offset)
+        with pa.OSFile(name, "r") as file:
+            file.seek(offset)
+            source, base = file, 0
+            if end < size:
+                # The rows before the NUL padding, as one buffer: pyarrow reads a stream to
+                # its end.
+                check_memory(end - offset, f"{name}: reading its {(end - offset) / 1e6:.3g} MB "
+                                           f"of rows before the NUL padding")
+                source, base = pa.BufferReader(file.read_buffer(end - offset)), offset
             reader = pacsv.open_csv(
                 source,
                 read_options=pacsv.ReadOptions(column_names=columns, block_size=1 << 21),
@@ -187,11 +207,11 @@ def _read_csv_fast(name, select, delimiter=",", progress=None):
                 rows += batch.num_rows
                 # The rows were counted from samples of the file before reading: a file
                 # whose sampled rows were longer than the rest is stopped at the limit.
-                check_memory(rows * READ_BYTES_PER_NUMBER * len(columns),
-                             f"{name}: reading more than {rows:.3g} rows of {len(columns)} "
-                             f"columns")
+                check_memory(rows * READ_BYTES_PER_NUMBER * len(kept),
+                             f"{name}: reading more than {rows:.3g} rows of {len(kept)} "
+                             f"column{'s' if len(kept) != 1 else ''}")
                 if progress is not None:
-                    progress(min(source.tell(), size), size)
+                    progress(min(base + source.tell(), size), size)
     except InputError:
         raise
     except (pa.ArrowException, OSError, ValueError):
