@@ -309,7 +309,7 @@ def test_the_data_file_is_named_for_its_own_mistakes(instrument):
     path, record = instrument
     data = path.parent / "run1.tsv"
     data.unlink()
-    with pytest.raises(InputError, match=f"^{data}: no such file$"):
+    with pytest.raises(InputError, match=f"^{path}: key 'data.file': {data}: no such file; "):
         io.read_record(path)
     lines = write_instrument_file(data, record).read_text().splitlines()
     lines[5] = lines[5].replace(lines[5].split("\t")[3], "12,5")        # friction at row 6

@@ -34,6 +34,7 @@ from __future__ import annotations
 import functools
 import math
 import os
+import stat
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -283,6 +284,70 @@ def read_description(path) -> DataDescription:
                            scale=scale, zero=tuple(zero), window=window)
 
 
+def _check_file(name, description) -> None:
+    """Refuse (InputError naming the description and its key) a ``data.file`` that is no file."""
+    file = description.file
+    try:
+        info = os.stat(file)
+    except FileNotFoundError:
+        problem = "no such file"
+    except OSError as exc:
+        problem = f"cannot read the file: {exc.strerror or exc}"
+    else:
+        problem = ("is a directory" if stat.S_ISDIR(info.st_mode) else
+                   None if os.access(file, os.R_OK) else "cannot read the file: permission denied")
+    if problem is not None:
+        raise InputError(f"{name}: key 'data.file': {file}: {problem}; expected the "
+                         f"instrument's file (CSV, TSV or Parquet), named relative to the "
+                         f"folder of {name}")
+
+
+def _conversion(description, key, zero=True) -> str:
+    """The keys of a description that convert a record column, in words for a message."""
+    words = [f"data.units.{key} = {description.units[key]!r}"] \
+        if key in description.units else []
+    if description.scale[key] < 0.0:
+        words.append(f"data.sign.{key} = -1")
+    if zero and key in description.zero:
+        words.append("data.zero: less the first kept sample")
+    return f"{'; '.join(words)} of {description.path}"
+
+
+def _converted(description, key, raw, rows_of, zero=True) -> np.ndarray:
+    """A record column in SI: ``raw`` times its factor and sign, less its first sample for a
+    ``zero`` column (``zero`` True); an InputError naming the file, its column and the row of
+    the first value that does not stay finite (``1e300`` in ``YN``)."""
+    scale = description.scale[key]
+    with np.errstate(over="ignore", invalid="ignore"):
+        values = raw * scale if scale != 1.0 else raw.copy()
+        if zero and key in description.zero:
+            values = values - values[0]
+    finite = np.isfinite(values)
+    if finite.all():
+        return values
+    index = int(np.argmin(finite))
+    raise InputError(f"{description.file}: row {rows_of([index])[0]}, column "
+                     f"{description.columns[key]!r}: {float(raw[index])!r} is "
+                     f"{float(values[index])!r} {RECORD_UNITS[key]} in SI units "
+                     f"({_conversion(description, key, zero)}); expected a value that stays "
+                     f"finite in SI units")
+
+
+def _check_times(description, raw, t, rows_of, zero=False) -> None:
+    """Refuse (InputError naming the file, column and row) times that increase in the file
+    (``raw``) but not in SI (``t``, less its first sample when ``zero``): two times the
+    conversion rounds to one."""
+    same = np.flatnonzero(t[1:] <= t[:-1])
+    if same.size:
+        k = int(same[0]) + 1
+        row, previous = rows_of([k, k - 1])
+        raise InputError(f"{description.file}: row {row}, column {description.columns['t']!r}: "
+                         f"{float(raw[k])!r} after {float(raw[k - 1])!r} on row {previous} is "
+                         f"{float(t[k])!r} s after {float(t[k - 1])!r} s in SI units "
+                         f"({_conversion(description, 't', zero)}); "
+                         f"expected times that stay distinct in SI units")
+
+
 def record_files(path) -> list[Path]:
     """The files a record reads: a table itself, or a description and the file it names.
 
@@ -327,20 +392,24 @@ def read_record(path, require=("t",), one_of=_MOTION, optional=("F", "normal_loa
     ------
     InputError
         A mistake in the description, naming it and its key (see
-        :func:`read_description`; and: a column the caller requires that
-        it does not name, a column missing from the file's header, a window
-        outside the record or keeping fewer than two samples); a bad row of
-        the file, naming the file, the row and the column (text where a number
-        was expected, a time that does not increase; a non-finite value or a
-        normal load that is not positive among the kept samples).
+        :func:`read_description`; and: a ``file`` that names no file, a
+        column the caller requires that it does not name, a column missing
+        from the file's header, a window outside the record or keeping fewer
+        than two samples); a bad row of the file, naming the file, the row
+        and the column (text where a number was expected, a time that does
+        not increase; a non-finite value or a normal load that is not
+        positive among the kept samples; a value that its conversion to SI
+        makes infinite, such as ``1e300`` in ``YN``, or times that it makes
+        equal).
 
     Notes
     -----
     In this order: the columns are read (quoted numbers, a byte-order mark,
-    ``\\r\\n`` line ends and blank lines are read as spreadsheets write
-    them), converted to SI (pint) and multiplied by their ``sign``, the
-    samples whose times lie in ``window`` kept, and the first kept sample
-    of each ``zero`` column subtracted.
+    ``\\r\\n`` line ends, blank lines and the NUL padding of a
+    preallocated file are read as :mod:`polind.io.tables` reads them),
+    converted to SI (pint) and multiplied by their ``sign``, the samples
+    whose times lie in ``window`` kept, and the first kept sample of each
+    ``zero`` column subtracted; every value of the record is then finite.
 
     Examples
     --------
@@ -375,13 +444,15 @@ def read_record(path, require=("t",), one_of=_MOTION, optional=("F", "normal_loa
                                  f"{', '.join(repr(text) for text in header)}{hint}")
         return wanted
 
+    _check_file(name, description)
     table, rows_of = read_table_columns(
         file, select, ", ".join(repr(column) for column in wanted),
         delimiter=description.delimiter, min_rows=2, progress=progress)
     time_column = columns["t"]
     check_values(file, {time_column: table[time_column]}, rows_of, min_rows=2,
                  increasing=time_column, positive=())
-    t = table[time_column] * description.scale["t"]
+    t = _converted(description, "t", table[time_column], rows_of, zero=False)
+    _check_times(description, table[time_column], t, rows_of)
     first, end = 0, t.size
     if description.window is not None:
         low, high = description.window
@@ -395,15 +466,15 @@ def read_record(path, require=("t",), one_of=_MOTION, optional=("F", "normal_loa
                              f"{end - first} sample{'s' if end - first != 1 else ''}; expected "
                              f"at least 2")
     kept = {column: table[column][first:end] for column in wanted}
-    check_values(file, kept, lambda indices: rows_of([first + int(k) for k in indices]),
-                 min_rows=2, increasing=None, positive=())
-    record = {}
-    for key, column in zip(keys, wanted):
-        values = kept[column] * description.scale[key] if description.scale[key] != 1.0 \
-            else kept[column].copy()
-        if key in description.zero:
-            values = values - values[0]
-        record[key] = values
+
+    def kept_rows(indices):
+        return rows_of([first + int(k) for k in indices])
+
+    check_values(file, kept, kept_rows, min_rows=2, increasing=None, positive=())
+    record = {key: _converted(description, key, kept[column], kept_rows)
+              for key, column in zip(keys, wanted)}
+    if "t" in record and "t" in description.zero:
+        _check_times(description, kept[time_column], record["t"], kept_rows, zero=True)
     load = record.get("normal_load")
     if load is not None and not (load > 0.0).all():
         index = int(np.argmax(~(load > 0.0)))
