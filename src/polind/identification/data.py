@@ -150,13 +150,19 @@ def _checked(t, force, x, v, normal_load, where: str = "") -> MeasuredData:
     if n < 3:
         raise InputError(f"Identification needs at least 3 samples{where}. Got {n} samples "
                          "of 't'.")
-    make_path(t, x=x, v=v)          # t strictly increasing, named in the error
+    path = make_path(t, x=x, v=v)   # t strictly increasing, named in the error
     if x is not None and np.ptp(x) == 0.0:
         raise InputError(f"The 'x' samples{where} never change (all {float(x[0])!r}): the data "
                          "hold no motion, so no friction parameter can be identified.")
     if v is not None and not np.any(v):
         raise InputError(f"The 'v' samples{where} are all 0: the data hold no motion, so no "
                          "friction parameter can be identified.")
+    if v is not None and np.ptp(path.x) == 0.0:
+        # (v = +a, -a, +a...: each step's mean velocity is 0; or speeds too small for a
+        # float's position to move)
+        raise InputError(f"The 'v' samples{where} integrate to a position that never changes "
+                         f"(all {float(path.x[0])!r} m at the sample times): the data hold no "
+                         "displacement, so no friction parameter can be identified.")
     if np.ptp(force) == 0.0:
         raise InputError(f"The 'F' samples{where} are all equal ({float(force[0])!r}): a "
                          "constant force carries no information to identify parameters from.")

@@ -51,8 +51,12 @@ def _typical_scale(unit: str, data: MeasuredData) -> float:
     speed = float(np.sqrt(np.mean(path.sample_velocity ** 2))) or 1.0
     span = float(np.ptp(path.x)) or 1.0
     duration = float(data.t[-1] - data.t[0])
-    return {"N": force, "N s/m": force / speed, "N/m": force / span, "m/s": speed, "m": span,
-            "N/s": force / duration, "s": duration}.get(unit, 1.0) or 1.0
+    with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
+        scale = {"N": force, "N s/m": np.divide(force, speed), "N/m": np.divide(force, span),
+                 "m/s": speed, "m": span, "N/s": np.divide(force, duration),
+                 "s": duration}.get(unit, 1.0)
+    # a size the data make 0 or infinite (speeds that underflow): the unit size
+    return float(scale) if math.isfinite(scale) and scale > 0.0 else 1.0
 
 
 # --- default bounds from the data -------------------------------------------------------------
@@ -61,16 +65,17 @@ def _typical_scale(unit: str, data: MeasuredData) -> float:
 class _Scales:
     """The sizes of a record that the default bounds are derived from."""
 
-    force: float       # A: the force amplitude, max |F| [N]
-    speed: float       # V: the largest sample speed [m/s]
-    span: float        # L: the displacement range, max x - min x [m]
-    step: float        # h: the median time step [s]
+    force: np.float64  # A: the force amplitude, max |F| [N]
+    speed: np.float64  # V: the largest sample speed [m/s]
+    span: np.float64   # L: the displacement range, max x - min x [m]
+    step: np.float64   # h: the median time step [s]
 
     @classmethod
     def of(cls, data: MeasuredData) -> "_Scales":
         path = data.path()
-        return cls(force=data.scale, speed=float(np.max(np.abs(path.sample_velocity))),
-                   span=float(np.ptp(path.x)), step=float(np.median(np.diff(data.t))))
+        # NumPy scalars: a quotient of the rules is inf or nan, not a ZeroDivisionError.
+        return cls(force=np.float64(data.scale), speed=np.max(np.abs(path.sample_velocity)),
+                   span=np.ptp(path.x), step=np.median(np.diff(data.t)))
 
 
 @dataclass(frozen=True)
@@ -104,16 +109,26 @@ DEFAULT_RANGES = {
 UNSCALED_RANGE = (0.1, 10.0)
 
 
-def _default_range(declaration: Param, start: np.ndarray, scales: _Scales):
-    """``(low, high, low_origin, high_origin)``: the default bounds of a free parameter."""
+def _default_range(key: str, declaration: Param, start: np.ndarray, scales: _Scales):
+    """``(low, high, low_origin, high_origin)``: the default bounds of a free parameter.
+
+    An InputError naming ``key`` when its scale from the data is 0 or not
+    finite, or makes bounds that are (no range can be made of it).
+    """
     kind_low, kind_high = _KIND_BOUNDS[declaration.bound]
     if math.isfinite(kind_low) and math.isfinite(kind_high):
         origin = f"the end of the range of a {declaration.bound} parameter"
         return kind_low, kind_high, origin, origin
     rule = DEFAULT_RANGES.get(declaration.unit)
     if rule is not None:
-        scale = rule.scale(scales)
-        low, high = rule.low * scale, rule.high * scale
+        with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
+            scale = float(rule.scale(scales))
+            low, high = rule.low * scale, rule.high * scale
+        if not (0.0 < low and math.isfinite(high)):
+            raise InputError(f"The default bounds of '{key}' are [{rule.low:g}, {rule.high:g}] x "
+                             f"{rule.words}, which is {scale:.4g} {declaration.unit} in these "
+                             f"data: no range can be made of it. Give '{key}' its bounds in "
+                             f"[fit.bounds] (or the 'bounds' of identify).")
         low_origin, high_origin = (
             f"the default from the data: {rule.describe(factor, scale, declaration.unit)}"
             for factor in (rule.low, rule.high))
@@ -379,7 +394,8 @@ def build_free(model: FrictionModel, keys, bounds, data: MeasuredData,
                 low, high = max(kind_low, bounds[key][0]), min(kind_high, bounds[key][1])
                 low_origin = high_origin = "given in [fit.bounds]"
             else:
-                low, high, low_origin, high_origin = _default_range(declaration, start, scales)
+                low, high, low_origin, high_origin = _default_range(key, declaration, start,
+                                                                    scales)
                 # (not for a start that misses by rounding: 1e-3 V is the start 1e-4 itself)
                 below = float(start.min()) < low * (1.0 - 1e-9)
                 above = float(start.max()) > high * (1.0 + 1e-9)
@@ -426,7 +442,13 @@ def default_bounds(model, data, *, free=None) -> dict[str, tuple[float, float]]:
     in (0, 1) and sum to 1 by construction).  For a list key the range holds
     every entry (``other``: from its smallest to its largest start).  A start
     outside its range widens the range to include it, with a warning.  With
-    a hold-out the scales come from the fitted part only.
+    a hold-out the scales come from the fitted part only.  A scale the data
+    make 0 or infinite (speeds too small for a float: ``A / V`` overflows)
+    gives no range: an :class:`~polind.errors.InputError` names the key, to
+    be given in ``[fit.bounds]``.  A record whose position never changes
+    (``x`` constant, or a ``v`` that integrates to a constant position,
+    such as ``+a, -a, +a...``) has ``L = 0``: it is refused before, as a
+    record that holds no motion.
 
     Parameters
     ----------
