@@ -91,10 +91,13 @@ def load_model(path):
     """
     import polind
 
+    from polind.cli import check_interrupted
+
     with blame(path):
         model = polind.load_model(path)
         model.step_kernel()
-        return model
+    check_interrupted()
+    return model
 
 
 def model_inputs(path) -> list:
@@ -146,8 +149,15 @@ def progress(total=None, description="", unit="step", unit_scale=False):
 
 
 def advancing(bar):
-    """A ``progress(done, total)`` callback that moves ``bar`` to ``done`` of ``total``."""
+    """A ``progress(done, total)`` callback that moves ``bar`` to ``done`` of ``total``.
+
+    It is also where a long read, run or write stops for a signal whose
+    exception a library swallowed (:func:`polind.cli.check_interrupted`).
+    """
+    from polind.cli import check_interrupted
+
     def advance(done, total):
+        check_interrupted()
         bar.total = total
         bar.update(done - bar.n)
     return advance
@@ -158,17 +168,35 @@ def read_samples(path, **columns):
     file: :func:`polind.io.read_record`), with a progress bar over its bytes."""
     from polind import io
 
+    from polind.cli import check_interrupted
+
     with progress(description="read", unit="B", unit_scale=True) as bar:
-        return io.read_record(path, progress=advancing(bar), **columns)
+        samples = io.read_record(path, progress=advancing(bar), **columns)
+    check_interrupted()
+    return samples
 
 
 def write_samples(path, columns):
-    """A table of samples (CSV or Parquet by extension), with a progress bar over its rows."""
-    from polind import io
+    """A table of samples (CSV or Parquet by extension), with a progress bar over its rows.
 
+    The command's output: once its last row is written, a signal no longer
+    stops the run (:func:`polind.cli.commit_begins`), so that the run ends
+    with the whole file and status 0, or with no file and status 130.
+    """
+    from polind import io
+    from polind.cli import check_interrupted, commit_begins
+
+    check_interrupted()
     rows = len(next(iter(columns.values())))
     with progress(total=rows, description="write", unit=" rows") as bar:
-        io.write_csv_atomic(path, columns, progress=advancing(bar))
+        advance = advancing(bar)
+
+        def written(done, total):
+            advance(done, total)
+            if done >= total:
+                commit_begins()
+
+        io.write_csv_atomic(path, columns, progress=written)
 
 
 def refuse_overwriting_inputs(inputs, outputs) -> None:
