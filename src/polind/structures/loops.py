@@ -77,47 +77,64 @@ def _record(values, name):
     return array
 
 
+def _peaks(u, middle, band) -> list:
+    """The maxima of the excursions of ``u`` above ``middle + band`` that lie inside the record.
+
+    An excursion begins where ``u`` reaches ``middle + band`` and ends where it
+    next falls to ``middle - band``; its maximum is the first sample of its
+    largest ``u``.
+    """
+    above = np.flatnonzero(u >= middle + band)
+    below = np.flatnonzero(u <= middle - band)
+    peaks = []
+    first = 0
+    while first < above.size:
+        fall = np.searchsorted(below, above[first])
+        end = below[fall] if fall < below.size else u.shape[0]
+        last = int(np.searchsorted(above, end)) - 1
+        begin, finish = int(above[first]), int(above[last])
+        # inside: below middle + band before and after, so the maximum is a reversal
+        if begin > 0 and finish < u.shape[0] - 1:
+            peaks.append(begin + int(np.argmax(u[begin:finish + 1])))
+        first = last + 1
+    return peaks
+
+
 def last_cycle(u) -> tuple:
     """``(start, stop)``: the record indices of the last full cycle of ``u``.
 
     The rule: with ``m`` the middle of the record's range of ``u`` and ``q`` a
-    quarter of the range, a cycle starts where ``u`` reaches ``m`` from below
-    (the first sample at or above ``m``, to 1e-9 of the range) after having fallen to ``m - q`` or
-    below since the previous start.  The band ``q`` keeps noise near the
-    middle from starting false cycles.  The last cycle runs from the
-    second-last start to the last: for a record sampled periodically with
-    ``N`` samples per period, exactly ``N`` samples apart.
+    quarter of the range, an excursion is a stretch of the record during
+    which ``u`` rises to ``m + q`` or above, ended by a fall to ``m - q`` or
+    below (the band keeps noise from splitting one excursion in two or
+    starting a false one).  Its maximum is a peak when the excursion lies
+    inside the record (``u`` is below ``m + q`` before it and after it): a
+    reversal of the motion, not a sample where the record was cut.  Troughs
+    are the same for ``-u``.  A full cycle runs from one peak to the next, or
+    from one trough to the next; the last cycle is the one of the last two
+    peaks or of the last two troughs, whichever ends later (peaks on a tie).
+    For a record sampled periodically with ``N`` samples per period, its
+    ends are exactly ``N`` samples apart.
 
     Raises
     ------
     InputError
-        If ``u`` never changes or holds fewer than two starts (no full cycle).
+        If ``u`` never changes or holds neither two peaks nor two troughs.
     """
     low, high = float(np.min(u)), float(np.max(u))
     if not high > low:
         raise InputError(f"The record holds no closed loop: 'u' never changes (every sample is "
                          f"{low!r}).")
     middle, band = 0.5 * (low + high), 0.25 * (high - low)
-    # "at or above the middle" to 1e-9 of the range: a record of whole periods of a sine
-    # ends at sin(2 pi n), a rounding below 0, and that last sample closes its last cycle.
-    level = middle - 1e-9 * (high - low)
-    armed = np.flatnonzero(u <= middle - band)
-    rising = np.flatnonzero((u[1:] >= level) & (u[:-1] < level)) + 1
-    starts = []
-    previous = -1
-    for index in rising:
-        # a start: some sample at or below the band since the previous start
-        first = np.searchsorted(armed, previous, side="right")
-        if first < armed.size and armed[first] < index:
-            starts.append(int(index))
-            previous = int(index)
-    if len(starts) < 2:
-        raise InputError(f"The record holds no closed loop: 'u' must rise through the middle "
-                         f"of its range ({middle:.6g}) twice, each time after falling to "
-                         f"{middle - band:.6g} or below (a full cycle); it does so "
-                         f"{len(starts)} time{'s' if len(starts) != 1 else ''} in "
-                         f"{u.shape[0]} samples.")
-    return starts[-2], starts[-1]
+    cycles = [tuple(extrema[-2:]) for extrema in (_peaks(u, middle, band),
+                                                   _peaks(-u, -middle, band))
+              if len(extrema) >= 2]
+    if not cycles:
+        raise InputError(f"The record holds no closed loop: 'u' must pass two maxima or two "
+                         f"minima of a full cycle (each an excursion beyond {middle + band:.6g} "
+                         f"or {middle - band:.6g} that returns, with one to the other side "
+                         f"between them); it has fewer in {u.shape[0]} samples.")
+    return max(cycles, key=lambda cycle: cycle[1])
 
 
 def hysteresis_loop(u, F) -> HysteresisLoop:
@@ -134,9 +151,10 @@ def hysteresis_loop(u, F) -> HysteresisLoop:
     Returns
     -------
     HysteresisLoop
-        The loop (the last full cycle of ``u``: between the last two rises of
-        ``u`` to the middle of its range, each after a fall to a quarter of the
-        range below the middle) with its energy per cycle ``D`` (trapezoidal on
+        The loop (the last full cycle of ``u``: between its last two maxima,
+        or its last two minima, whichever pair ends later; an extremum counts
+        when ``u`` goes from the middle quarter of its range beyond the outer
+        quarter and back) with its energy per cycle ``D`` (trapezoidal on
         the samples, closed by the chord back to the first sample), its secant
         stiffness and its equivalent viscous damping ratio
         ``D / (4 pi E_s)``, ``E_s = (F_max - F_min)(u_max - u_min) / 8``.
