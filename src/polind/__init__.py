@@ -22,7 +22,8 @@ __all__ = ["InputError", "ValidityWarning", "MODEL_TYPES", "FrictionModel", "Sta
            "load_system", "simulate_system", "identify", "FitResult",
            "identify_maxwell_slip", "identify_gms", "identify_stribeck", "compare", "Comparison",
            "sweep", "SweepSummary", "Structure", "StructureResult", "simulate_structure", "load_structure",
-           "hysteresis_loop", "HysteresisLoop"]
+           "hysteresis_loop", "HysteresisLoop", "harmonic_balance", "HarmonicBalanceResult",
+           "frequency_response", "FrequencyResponse", "ContinuationError", "backbone", "Backbone"]
 __version__ = "0.1.0"
 
 # Every export but InputError is imported on first use (PEP 562), so that
@@ -47,7 +48,11 @@ _LAZY = {"MODEL_TYPES": "polind.models", "FrictionModel": "polind.models",
          "sweep": "polind.sweeps", "SweepSummary": "polind.sweeps",
          "Structure": "polind.structures", "StructureResult": "polind.structures",
          "simulate_structure": "polind.structures", "load_structure": "polind.structures",
-         "hysteresis_loop": "polind.structures", "HysteresisLoop": "polind.structures"}
+         "hysteresis_loop": "polind.structures", "HysteresisLoop": "polind.structures",
+         "harmonic_balance": "polind.structures", "HarmonicBalanceResult": "polind.structures",
+         "frequency_response": "polind.structures", "FrequencyResponse": "polind.structures",
+         "ContinuationError": "polind.structures", "backbone": "polind.structures",
+         "Backbone": "polind.structures"}
 
 
 def __getattr__(name):

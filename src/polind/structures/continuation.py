@@ -33,7 +33,7 @@ import scipy.optimize
 from polind.errors import InputError, describe
 from polind.structures.harmonic import (HarmonicBalanceResult, PeriodicProblem, build_result,
                                         check_frequency, check_harmonics, response_amplitude,
-                                        _force_harmonics)
+                                        force_harmonics)
 from polind.validation import check_number
 
 __all__ = ["ContinuationError", "FrequencyResponse", "frequency_response"]
@@ -111,23 +111,6 @@ def _curve(points, evaluations):
         evaluations=evaluations, points=list(points))
 
 
-def _linear_scale(problem, applied, start, stop, count=200):
-    """The largest contact displacement of the linear structure, stuck or free, over the range."""
-    largest = 0.0
-    k_c = problem.k_c.copy()
-    for shift in (k_c, np.zeros_like(k_c)):
-        problem.k_c = shift
-        for omega in np.linspace(start, stop, count):
-            problem._condensed.clear()
-            try:
-                largest = max(largest, float(np.abs(problem.condensed(omega, applied)[1]).max()))
-            except InputError:
-                continue
-    problem.k_c = k_c
-    problem._condensed.clear()
-    return largest
-
-
 def frequency_response(structure, omega_range, *, force=None, static_force=None,
                        harmonics=7, samples=None, step=None, max_points=2000,
                        tolerance=1e-9, progress=None) -> FrequencyResponse:
@@ -184,23 +167,26 @@ def frequency_response(structure, omega_range, *, force=None, static_force=None,
     max_points = check_number(owner, "max_points", max_points, "positive", integer=True)
     tolerance = check_number(owner, "tolerance", tolerance, "positive")
     problem = PeriodicProblem(structure, harmonics, samples, owner, 2.0 * np.pi / start)
-    applied = _force_harmonics(structure, force, static_force, harmonics, owner)
+    applied = force_harmonics(structure, force, static_force, harmonics, owner)
     direction = 1.0 if stop > start else -1.0
     omega_scale = abs(stop - start)
     if step is None:
         step = 0.02
     step = check_number(owner, "step", step, "positive")
 
+    # A point is accepted at a residual of 1e4 tolerances (1e-5 of the displacement scale
+    # by default): the periodic evaluation of a rate model repeats to 1e-11 of its state.
+    accept = 1e4 * tolerance
     x, evaluations, error = problem.solve(problem.linear_guess(start, applied), start, applied,
                                           tolerance, 400)
-    if not error <= 1e3 * tolerance:
+    if not error <= accept:
         raise ContinuationError(f"The continuation of {owner} could not start at omega = "
                                 f"{start!r} rad/s: the residual is {error:.3g}.", _curve([], 0))
     points = [build_result(problem, x, start, applied, error, evaluations)]
     # The displacement scale: the largest response of the stuck structure and of the
     # structure without its contacts' stiffness over the range, so that a resonance
     # peak is a step of the order of one in the scaled variables.
-    x_scale = max(float(np.abs(x).max()), _linear_scale(problem, applied, start, stop))
+    x_scale = max(float(np.abs(x).max()), problem.linear_scale(applied, start, stop))
     if x_scale == 0.0:
         raise InputError(f"The 'force' of {owner} is zero: the response is zero at every "
                          f"frequency.")
@@ -209,9 +195,9 @@ def frequency_response(structure, omega_range, *, force=None, static_force=None,
     def scaled(z):
         return z[:size] * x_scale, z[size] * omega_scale
 
-    def augmented_jacobian(z):
+    def augmented_jacobian(z, differences=False):
         xv, w = scaled(z)
-        r, J, _ = problem.residual(xv, w, applied)
+        r, J, _ = problem.residual(xv, w, applied, differences=differences)
         dw = 1e-7 * max(w, omega_scale)
         r2, _ = problem.residual(xv, w + dw, applied, jacobian=False)
         column = (r2 - r) / dw * omega_scale / x_scale
@@ -226,29 +212,38 @@ def frequency_response(structure, omega_range, *, force=None, static_force=None,
     tau /= np.linalg.norm(tau)
     ds = step
     smallest = step * 1e-4
-    largest = step * 10
+    largest = 2.5 * step
     while True:
         while True:
             predictor = z + ds * tau
 
-            def corrector(y, predictor=predictor, tau=tau):
-                r, A = augmented_jacobian(y)
-                return (np.append(r, tau @ (y - predictor)), np.vstack([A, tau]))
+            for differences in (False, True):
+                # The tangent Jacobian first; differences where it does not converge.
+                def corrector(y, predictor=predictor, tau=tau, differences=differences):
+                    r, A = augmented_jacobian(y, differences)
+                    return (np.append(r, tau @ (y - predictor)), np.vstack([A, tau]))
 
-            solution = scipy.optimize.root(corrector, predictor, jac=True, method="hybr",
-                                           options={"xtol": tolerance, "maxfev": 60})
-            y = solution.x
+                solution = scipy.optimize.root(corrector, predictor, jac=True, method="hybr",
+                                               options={"xtol": tolerance,
+                                                        "maxfev": 200 if differences else 60})
+                y = solution.x
+                if solution.success:
+                    break
             xv, w = scaled(y)
             residual, _ = problem.residual(xv, w, applied, jacobian=False)
             error = float(np.abs(residual).max()) / max(float(np.abs(xv).max()), 1e-300)
             secant = (y - z) / max(np.linalg.norm(y - z), 1e-300)
-            if error <= 1e3 * tolerance and w > 0 and secant @ tau > np.cos(np.radians(45)):
+            # A step that turns the curve by more than 45 degrees is shortened, unless it is
+            # already short: then the curve has a corner (where a joint starts to slip).
+            turn = float(secant @ tau)
+            if error <= accept and w > 0 and (turn > np.cos(np.radians(45))
+                                              or (turn > 0.0 and ds <= 64 * smallest)):
                 break
             ds *= 0.5
             if ds < smallest:
                 curve = _curve(points, problem.evaluations)
                 raise ContinuationError(
-                    f"The continuation of {owner} stopped at omega = {points[-1].omega!r} "
+                    f"The continuation of {owner} stopped at omega = {float(points[-1].omega)!r} "
                     f"rad/s: the next step did not converge (residual {error:.3g}) at the "
                     f"smallest step length. The {len(points)} points found are kept.", curve)
         # The secant predicts the next step: it keeps its direction through a fold.
@@ -258,7 +253,7 @@ def frequency_response(structure, omega_range, *, force=None, static_force=None,
         if direction * (w - stop) >= 0:
             # Past the end: the last point is solved at the end frequency itself.
             end, evaluations, error = problem.solve(xv, stop, applied, tolerance, 400)
-            if error <= 1e3 * tolerance:
+            if error <= accept:
                 points.append(build_result(problem, end, stop, applied, error, 0))
             break
         points.append(build_result(problem, xv, w, applied, error, 0))
@@ -267,8 +262,8 @@ def frequency_response(structure, omega_range, *, force=None, static_force=None,
         if len(points) >= max_points:
             curve = _curve(points, problem.evaluations)
             raise ContinuationError(f"The continuation of {owner} reached its 'max_points' "
-                                    f"({max_points}) at omega = {w!r} rad/s (residual "
+                                    f"({max_points}) at omega = {float(w)!r} rad/s (residual "
                                     f"{error:.3g}) before the end of its range.", curve)
-        if solution.nfev <= 6:
+        if not differences and solution.nfev <= 12:
             ds = min(ds * 1.5, largest)
     return _curve(points, problem.evaluations)

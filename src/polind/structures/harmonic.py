@@ -155,7 +155,7 @@ class _PeriodicContact:
         return value if math.isfinite(value) else 0.0
 
 
-def _force_harmonics(structure, force, static_force, harmonics, owner):
+def force_harmonics(structure, force, static_force, harmonics, owner):
     """The applied force's complex harmonics ``(H + 1, n)``: row 0 the static force, row h ``F`` of ``Re(F e^{i h w t})``."""
     n = structure.size
     out = np.zeros((harmonics + 1, n), dtype=np.complex128)
@@ -231,8 +231,14 @@ class PeriodicProblem:
 
     # -- the contacts along a period -------------------------------------------------------
 
-    def contact_forces(self, coefficients, omega):
-        """Each contact's force coefficients ``(m, 2H + 1)`` and Jacobian ``(m, 2H, 2H)`` in its oscillating coefficients."""
+    def contact_forces(self, coefficients, omega, differences=False):
+        """Each contact's force coefficients ``(m, 2H + 1)`` and Jacobian ``(m, 2H, 2H)`` in its oscillating coefficients.
+
+        The Jacobian is the tangent one (``E diag(dF/du) T``), or with
+        ``differences`` forward differences of each oscillating coefficient
+        (``2H`` more periods of each contact): exact where a reversal point
+        moves the loop, which the tangent one is not.
+        """
         period = 2.0 * np.pi / omega
         u = coefficients @ self.T.T                      # (m, N)
         forces = np.empty((self.m, 2 * self.harmonics + 1))
@@ -240,9 +246,16 @@ class PeriodicProblem:
         osc_T = self.T[:, 1:]
         osc_E = self.E[1:]
         for c, contact in enumerate(self.contacts):
-            force, tangent = contact.period(u[c], float(coefficients[c, 0]), period)
+            mean = float(coefficients[c, 0])
+            force, tangent = contact.period(u[c], mean, period)
             forces[c] = self.E @ force
-            jacobians[c] = osc_E @ (tangent[:, None] * osc_T)
+            if not differences:
+                jacobians[c] = osc_E @ (tangent[:, None] * osc_T)
+                continue
+            delta = 1e-7 * max(float(np.abs(coefficients[c, 1:]).max()), 1e-300)
+            for k in range(2 * self.harmonics):
+                shifted, _ = contact.period(u[c] + delta * osc_T[:, k], mean, period)
+                jacobians[c, :, k] = osc_E @ (shifted - force) / delta
         self.evaluations += 1
         if not np.isfinite(forces).all():
             raise InputError(f"A contact's force of {self.owner} is not finite at "
@@ -268,9 +281,17 @@ class PeriodicProblem:
         cached = self._condensed.get(key)
         if cached is not None:
             return cached
+        G, linear = self._condense(omega, applied, self.k_c)
+        if len(self._condensed) >= 4:
+            self._condensed.pop(next(iter(self._condensed)))
+        value = (G, linear, real_blocks(G))
+        self._condensed[key] = value
+        return value
+
+    def _condense(self, omega, applied, k_c):
         s = self.structure
         h = np.arange(1, self.harmonics + 1)[:, None, None]
-        shift = self.B.T @ (self.k_c[:, None] * self.B)
+        shift = self.B.T @ (k_c[:, None] * self.B)
         D = (s.stiffness + shift - (h * omega) ** 2 * s.mass + 1j * h * omega * s.damping)
         rhs = np.concatenate([np.broadcast_to(self.B.T, (self.harmonics,) + self.B.T.shape),
                               applied[1:, :, None]], axis=2)
@@ -280,23 +301,33 @@ class PeriodicProblem:
             raise InputError(f"The structure of {self.owner} is singular at a harmonic of "
                              f"omega = {omega!r} rad/s (an undamped resonance): add damping or "
                              f"move the frequency.") from None
-        G = self.B @ solved[:, :, :self.m]
-        linear = (self.B @ solved[:, :, self.m:])[:, :, 0]
-        if len(self._condensed) >= 4:
-            self._condensed.pop(next(iter(self._condensed)))
-        value = (G, linear, real_blocks(G))
-        self._condensed[key] = value
-        return value
+        return self.B @ solved[:, :, :self.m], (self.B @ solved[:, :, self.m:])[:, :, 0]
+
+    def linear_scale(self, applied, start, stop, count=200):
+        """The largest contact displacement [m] of the linear structure over ``[start, stop]``.
+
+        Both with the contacts stuck (their tangents at rest) and without
+        them: the scale of a frequency response's displacements.
+        """
+        largest = 0.0
+        for k_c in (self.k_c, np.zeros_like(self.k_c)):
+            for omega in np.linspace(start, stop, count):
+                try:
+                    linear = self._condense(omega, applied, k_c)[1]
+                except InputError:
+                    continue
+                largest = max(largest, float(np.abs(linear).max()))
+        return largest
 
     # -- the condensed residual ---------------------------------------------------------------
 
-    def residual(self, x, omega, applied, condensed=None, jacobian=True):
+    def residual(self, x, omega, applied, condensed=None, jacobian=True, differences=False):
         """``r(x)`` and ``dr/dx`` of the oscillating contact coefficients ``x`` (``m 2H``)."""
         H, m = self.harmonics, self.m
         G, linear, Gr = self.condensed(omega, applied) if condensed is None else condensed
         coefficients = np.zeros((m, 2 * H + 1))
         coefficients[:, 1:] = x.reshape(m, 2 * H)
-        forces, jacobians = self.contact_forces(coefficients, omega)
+        forces, jacobians = self.contact_forces(coefficients, omega, differences)
         U = to_complex(coefficients)                     # (H, m)
         Fh = to_complex(forces)
         r = U - linear + np.einsum("hab,hb->ha", G, Fh - self.k_c * U)
@@ -492,7 +523,7 @@ def harmonic_balance(structure, omega, *, force=None, static_force=None, harmoni
     max_evaluations = check_number(owner, "max_evaluations", max_evaluations, "positive",
                                    integer=True)
     problem = PeriodicProblem(structure, harmonics, samples, owner, 2.0 * np.pi / omega)
-    applied = _force_harmonics(structure, force, static_force, harmonics, owner)
+    applied = force_harmonics(structure, force, static_force, harmonics, owner)
     if initial is not None:
         if not isinstance(initial, HarmonicBalanceResult) or \
                 initial.contact_displacement.shape != (problem.m, 2 * harmonics + 1):
