@@ -21,6 +21,16 @@ Two kinds (the user guide, :ref:`guide-fmu`):
     force over the communication step, ``n`` Body steps of ``time_step``
     (the communication step must be a whole multiple of it); the outputs are
     the body after them.
+
+An error inside the FMU (a non-finite input, a communication step that is not
+a whole multiple of ``time_step``, a model that refuses a step) is never a
+silent early end: the slave logs one message with status ``fmi2Error`` that
+names the input, its value and the communication step, then raises.
+PythonFMU's binary has no other way to fail a call: a ``False`` from
+``do_step`` becomes ``fmi2Discard`` with ``fmi2Terminated`` set, which a
+master (FMPy's ``simulate_fmu``) takes for a normal end, while an exception
+makes the call return ``fmi2Fatal`` (PythonFMU 0.7.0; it forwards the log
+messages only to a master that turned debug logging on).
 """
 
 from __future__ import annotations
@@ -31,6 +41,8 @@ from pathlib import Path
 
 from pythonfmu import Fmi2Causality, Fmi2Slave, Fmi2Variability, Real
 from pythonfmu.enums import Fmi2Status
+
+from polind.errors import InputError
 
 __all__ = ["FrictionSlave", "CONFIG", "KINDS"]
 
@@ -95,29 +107,43 @@ class FrictionSlave(Fmi2Slave):
         self.time = float(start_time)
 
     def do_step(self, current_time, step_size):
+        time, step = float(current_time), float(step_size)
         try:
             if self.kind == "x":
-                self.time = float(current_time)
+                self.time = time
                 self._settle()
                 self.settled = False
             else:
-                self._advance_body(float(step_size))
-            self.time = float(current_time) + float(step_size)
-            return True
-        except Exception as error:  # noqa: BLE001 - reported to the master, not raised
-            self.log(f"polind: {type(error).__name__}: {error}", Fmi2Status.error)
-            return False
+                self._advance_body(step)
+        except Exception as error:  # noqa: BLE001 - reported to the master (module notes)
+            self._fail(f"{_what(error)}, in the communication step from t = {time!r} s "
+                       f"of {step!r} s.")
+        self.time = time + step
+        return True
+
+    def _fail(self, message):
+        """Log ``message`` to the master with status fmi2Error, then raise it (module notes)."""
+        message = "polind: " + " ".join(message.split())
+        self.log(message, Fmi2Status.error)
+        raise InputError(message) from None
 
     # --- input x: a Stepper ----------------------------------------------------------------
 
     def _set_x(self, value):
         value = float(value)
+        if not math.isfinite(value):
+            self._fail(f"The input 'x' of the FMU must be a finite position [m]. Got {value!r} "
+                       f"instead, at the communication point t = {self.time!r} s.")
         if value != self.x or self.stepper is None:
             self.settled = False
         self.x = value
 
     def _stepper_force(self):
-        self._settle()
+        try:
+            self._settle()
+        except Exception as error:  # noqa: BLE001 - reported to the master (module notes)
+            self._fail(f"{_what(error)}, for the output 'F' at the communication point "
+                       f"t = {self.time!r} s.")
         return self.force
 
     def _settle(self):
@@ -142,7 +168,11 @@ class FrictionSlave(Fmi2Slave):
 
     def _set(self, name, value):
         # A parameter set before the run starts: the Body is built with it.
-        setattr(self, name, float(value))
+        value = float(value)
+        if not 0.0 < value < math.inf:
+            self._fail(f"The parameter '{name}' of the FMU must be a positive finite number. "
+                       f"Got {value!r} instead.")
+        setattr(self, name, value)
         self.body = None
 
     def _body(self):
@@ -153,13 +183,20 @@ class FrictionSlave(Fmi2Slave):
         return self.body
 
     def _advance_body(self, step_size):
-        steps = round(step_size / self.time_step)
+        steps = round(step_size / self.time_step) if math.isfinite(step_size) else 0
         if steps < 1 or abs(steps * self.time_step - step_size) > 1e-9 * step_size:
-            raise ValueError(f"the communication step {step_size!r} s is not a whole multiple "
-                             f"of the FMU's time_step {self.time_step!r} s")
-        body = self._body()
+            raise InputError(f"The communication step of the FMU must be a whole multiple of "
+                             f"its time_step {self.time_step!r} s. Got {step_size!r} s instead")
         applied = float(self.force)
         if not math.isfinite(applied):
-            raise ValueError(f"the input 'force' must be finite, got {applied!r}")
+            raise InputError(f"The input 'force' of the FMU must be a finite force [N]. Got "
+                             f"{applied!r} instead")
+        body = self._body()
         for _ in range(steps):
             body.step(applied)
+
+
+def _what(error) -> str:
+    """An error's message without its final full stop (an unexpected one with its type)."""
+    text = str(error) if isinstance(error, InputError) else f"{type(error).__name__}: {error}"
+    return text.rstrip(".")
