@@ -32,6 +32,7 @@ from polind.kernels.buffer import NUMPY_REALS as _NP
 from polind.kernels.mount import N_MOUNT
 from polind.models import FrictionModel, State
 from polind.models.kernel import RIGID
+from polind.models.state import BODY_KEY
 from polind.validation import check_number
 
 __all__ = ["Stepper", "Body"]
@@ -43,11 +44,12 @@ _F64, _F32 = np.float64, np.float32      # NumPy scalars: what indexing an array
 
 
 def _lost_step(time, time_step, step):
-    """The InputError of a time step that the body's absolute time rounds away."""
-    return InputError(f"The 'time_step' of Body ({time_step!r} s) is lost in its time "
-                      f"{time!r} s: a step there is {step!r} s in double precision; expected a "
-                      f"time step of at least {1e6 * math.ulp(time):.3g} s at that time, or a "
-                      f"state whose time starts nearer 0.")
+    """The InputError of a time step that the body's time rounds away (floats: a NumPy scalar's
+    repr is not its number)."""
+    return InputError(f"The 'time_step' of Body ({float(time_step)!r} s) is lost in its time "
+                      f"{float(time)!r} s: a step there is {float(step)!r} s in double "
+                      f"precision; expected a time step of at least {1e6 * math.ulp(time):.3g} "
+                      f"s at that time, or a state whose time starts nearer 0.")
 
 
 def check_model(model, owner):
@@ -63,6 +65,7 @@ def start_state(model, state, owner):
         raise InputError(f"The 'state' of {owner} must be a polind State (a result's "
                          f"final_state or State.from_dict). Got {describe(state)} instead.")
     model.check_state(state)
+    state.check_entries(model)               # with the Body's history, popped below
     start = state.copy()
     start.variables.pop(BODY_KEY, None)      # a Body's history (Body reads it on its own)
     return start
@@ -192,7 +195,7 @@ class Stepper:
                                      ("velocity", velocity, state.velocity)):
                 if given != 0.0 and given != own:
                     raise InputError(f"The '{name}' of Stepper is the state's ({own!r}) when a "
-                                     f"state is given. Got {given!r} instead.")
+                                     f"state is given. Got {describe(given)} instead.")
         self._model = model
         self._template = start
         # The kernel's arrays and the current sample in one buffer (polind.kernels.buffer):
@@ -600,7 +603,7 @@ class Body:
         """The InputError of a step the compiled step refused: the force's, or a lost step's."""
         if not -_INF < applied_force < _INF:
             return InputError(f"The 'applied_force' of Body.step must be finite. "
-                              f"Got {applied_force!r} instead.")
+                              f"Got {describe(applied_force)} instead.")
         steps = self._clock[1]
         return _lost_step(self._time_at(steps), self._time_step,
                           self._time_at(steps + 1) - self._time_at(steps))
@@ -610,7 +613,6 @@ class Body:
 #: spring, its force, the contact's position and the contact's velocity).
 HISTORY = ("time", "position", "velocity", "force", "previous_velocity", "step_velocity",
            "history", "last_load", "start_time", "steps", "time_step")
-BODY_KEY = "body"
 _MOUNT_WORK = slice(6, 9)     # polind.kernels.mount: SPRING_FORCE .. CONTACT_VELOCITY
 
 
@@ -621,9 +623,7 @@ def carried_history(state):
     velocity and force): a state that moved on since (``simulate`` from it)
     carries a stale one, which is ignored.
     """
-    if not isinstance(state, State):
-        return None
-    history = state.variables.get(BODY_KEY)
+    history = state.variables.get(BODY_KEY) if isinstance(state, State) else None
     if history is None:
         return None
     history = np.asarray(history, dtype=np.float64).reshape(-1)
@@ -645,5 +645,5 @@ def _agrees(name, given, own):
     own = float(own)
     if given is not None and given != 0.0 and given != own:
         raise InputError(f"The '{name}' of Body is the state's ({own!r}) when the state "
-                         f"carries a Body's history. Got {given!r} instead.")
+                         f"carries a Body's history. Got {describe(given)} instead.")
     return own

@@ -171,7 +171,9 @@ class FrictionModel:
         # Every model may be mounted: a series spring, and (models without a
         # load of their own) a reference load for the load-proportional form.
         common = (COMPLIANCE,) if cls.takes_normal_load else (REFERENCE_LOAD, COMPLIANCE)
-        own = {entry.key for entry in cls.parameters}
+        if not isinstance(cls.parameters, (tuple, list)):
+            return          # not a declaration: register_model refuses it, naming it
+        own = {getattr(entry, "key", None) for entry in cls.parameters}
         cls.parameters = tuple(cls.parameters) + tuple(entry for entry in common
                                                        if entry.key not in own)
 
@@ -542,6 +544,7 @@ class FrictionModel:
             state = self.initial_state(normal_load)
         else:
             self.check_state(state)
+            state.check_entries(self)       # the one check of every model's given state
         functions = None
         if fixed_load and normal_load is None and not varying_load:
             functions = self.fixed_load_step_functions(state)

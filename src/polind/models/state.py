@@ -14,7 +14,12 @@ from typing import ClassVar
 import numpy as np
 
 from polind.errors import InputError, describe
+from polind.models.checks import LARGEST
 from polind.models.registry import model_class
+
+#: The variable of a :class:`polind.Body`'s state that carries its integrator's history
+#: (``polind.stepper.HISTORY``): the one a state may hold beside its model's variables.
+BODY_KEY = "body"
 
 
 @dataclass(frozen=True)
@@ -61,7 +66,7 @@ class State:
 
         Checked when a state is built and again when a model is given one
         (:meth:`polind.FrictionModel.check_state`): its variables may have
-        been changed in between.
+        been changed in between.  The scalars become Python floats.
         """
         for key in self._SCALARS:
             value = getattr(self, key)
@@ -69,6 +74,7 @@ class State:
                     and not isinstance(value, bool) and _finite_float(value)):
                 raise InputError(f"The '{key}' of a State must be a finite number. Got "
                                  f"{describe(value)} instead.")
+            setattr(self, key, float(value))
         if not isinstance(self.variables, dict):
             raise InputError(f"The variables of a State must be a dict of arrays. Got "
                              f"{describe(self.variables)} instead.")
@@ -80,6 +86,32 @@ class State:
             if not finite:
                 raise InputError(f"The '{key}' variable of a State must hold finite numbers. "
                                  f"Got {describe(value)} instead.")
+
+    def check_entries(self, model) -> None:
+        """Refuse (InputError) a state that ``model`` cannot continue exactly.
+
+        The one check of a state given to a model, whatever the model
+        (:meth:`polind.FrictionModel.step_kernel` makes it, after the model's
+        own :meth:`~polind.FrictionModel.check_state`): an entry the model
+        does not have (a misspelt key of an edited state file), named with
+        the keys expected, and a number that is not finite or is larger than
+        a model's numbers may be (:data:`polind.models.checks.LARGEST`: the
+        model's arithmetic would overflow to infinity), named with its key.
+        """
+        self.check_finite()
+        known = dict.fromkeys(model.state_keys or ())
+        for key in self.variables:
+            if key != BODY_KEY and key not in known:
+                known.update(dict.fromkeys(model.initial_variables(None)))    # (once)
+                if key not in known:
+                    expected = ", ".join(("type",) + self._SCALARS + tuple(known) + (BODY_KEY,))
+                    raise InputError(f"The state has an entry '{key}' that a {model.type} "
+                                     f"model's state does not have; expected its keys: "
+                                     f"{expected}.")
+        for key in self._SCALARS:
+            _check_size(key, np.array([getattr(self, key)]))
+        for key, value in self.variables.items():
+            _check_size(key, np.asarray(value, dtype=np.float64).reshape(-1))
 
     def copy(self) -> "State":
         """A deep copy (the variables' arrays copied too)."""
@@ -114,6 +146,7 @@ class State:
                 raise InputError(f"The '{key}' entry of a saved state must be a finite number. "
                                  f"Got {describe(value)} instead.")
             scalars[key] = float(value)
+            _check_size(key, np.array([scalars[key]]))
         variables = {}
         for key, value in data.items():
             if key == "type" or key in cls._SCALARS:
@@ -126,6 +159,7 @@ class State:
             if not np.all(np.isfinite(array)):
                 raise InputError(f"The '{key}' entry of a saved state must be finite. "
                                  f"Got {describe(value)} instead.")
+            _check_size(key, array)
             variables[key] = array
         return cls(data["type"], variables=variables, **scalars)
 
@@ -147,3 +181,14 @@ def _finite_float(value) -> bool:
         return math.isfinite(float(value))
     except OverflowError:
         return False
+
+
+def _check_size(key, array) -> None:
+    """Refuse a state's entry with a number beyond :data:`LARGEST` in magnitude (naming it)."""
+    large = np.flatnonzero(~(np.abs(array) <= LARGEST))
+    if large.size:
+        index = int(large[0])
+        where = f" at index {index}" if array.shape[0] > 1 else ""
+        raise InputError(f"The '{key}' entry of a state must hold finite numbers of a physical "
+                         f"size, at most {LARGEST:g} in magnitude (a model's arithmetic "
+                         f"multiplies them). Got {float(array[index])!r}{where} instead.")
