@@ -204,8 +204,9 @@ class BodyBatch:
                 raise InputError(f"The 'applied_forces' of BodyBatch.step must be finite. Got "
                                  f"{float(forces[bad[0]])!r} for body {int(bad[0])} instead.")
         if not self._advance(*self._head, forces, self._load, self._out):
-            raise InputError(f"The 'time_step' of BodyBatch ({self._clock[2]!r} s) is lost in "
-                             f"its time {self.time!r} s; expected a state whose time starts "
+            step = float(self._clock[2])       # (a NumPy scalar's repr is not its number)
+            raise InputError(f"The 'time_step' of BodyBatch ({step!r} s) is lost in its time "
+                             f"{self.time!r} s; expected a state whose time starts "
                              f"nearer 0.")
         out = self._out.copy()
         return out[0], out[1], out[2]

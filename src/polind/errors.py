@@ -30,7 +30,16 @@ def describe(value) -> str:
 
     >>> describe(10 ** 5000)
     'an integer of 5001 digits'
+
+    A NumPy scalar reads as its number, not as its type (NumPy 2's repr):
+
+    >>> import numpy as np
+    >>> describe(np.float64("nan")), describe(np.int64(3))
+    ('nan', '3')
     """
+    if type(value).__module__ == "numpy" and getattr(value, "shape", None) == () \
+            and hasattr(value, "item"):
+        value = value.item()       # np.float64(2.5) -> 2.5, np.float32 -> its exact double
     if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > 200:
         # repr refuses integers of more than 4300 digits: count them instead.
         digits = len(str(abs(value))) if value.bit_length() < 14000 else \

@@ -31,7 +31,7 @@ def _positive_array(values, name, shape) -> np.ndarray:
     if bad.size:
         raise InputError(
             f"The asperity '{name}' of pol-ind must be positive and finite. "
-            f"Got {array[bad[0]]!r} at index {bad[0]}."
+            f"Got {float(array[bad[0]])!r} at index {bad[0]}."
         )
     return array
 
@@ -52,7 +52,8 @@ def sorted_heights(heights, counts, radii=None, radius=1.0):
     bad = np.flatnonzero(~np.isfinite(values))
     if bad.size:
         raise InputError(
-            f"The summit 'heights' of pol-ind must be finite. Got {values[bad[0]]!r} at index {bad[0]}."
+            f"The summit 'heights' of pol-ind must be finite. "
+            f"Got {float(values[bad[0]])!r} at index {bad[0]}."
         )
     columns = []
     if counts is not None:

@@ -97,8 +97,9 @@ def check_scales(model_type, scales) -> None:
     for key, value in scales.items():
         if isinstance(value, (int, float)) and not isinstance(value, bool) \
                 and not _normal(float(value)):
-            raise InputError(f"The {model_type} model's parameters give its {key} = {value!r}, "
-                             f"beyond double precision; expected parameters of a physical size.")
+            raise InputError(f"The {model_type} model's parameters give its {key} = "
+                             f"{float(value)!r}, beyond double precision; expected parameters "
+                             f"of a physical size.")
     levels = {key: abs(float(scales[key])) for key in ("static_force", "coulomb_force")
               if isinstance(scales.get(key), (int, float)) and scales[key] != 0.0}
     if len(levels) == 2:

@@ -233,9 +233,9 @@ def _applied(force, t, n):
         return np.zeros((t.shape[0], n))
     if callable(force):
         rows = []
-        for k, time in enumerate(t):
+        for time in t.tolist():         # floats (a NumPy scalar's repr is not its number)
             try:
-                value = np.asarray(force(float(time)), dtype=np.float64)
+                value = np.asarray(force(time), dtype=np.float64)
             except (TypeError, ValueError) as error:
                 raise InputError(f"The 'force' callable of simulate_structure must return "
                                  f"{n} numbers. At t = {time!r} it raised: {error}") from None
