@@ -348,17 +348,25 @@ class PeriodicProblem:
         if scale == 0.0:
             return np.zeros_like(x0), 0, 0.0
 
-        def fun(x):
-            r, J, _ = self.residual(x * scale, omega, applied, condensed)
-            return r / scale, J
-
         before = self.evaluations
-        solution = scipy.optimize.root(fun, x0 / scale, jac=True, method="hybr",
-                                       options={"xtol": tolerance,
-                                                "maxfev": max_iterations})
-        x = solution.x * scale
-        r, _ = self.residual(x, omega, applied, condensed, jacobian=False)
-        error = float(np.abs(r).max()) / scale
+        x, error = x0, math.inf
+        for differences in (False, True):
+            # The tangent Jacobian first; forward differences where it stalls.
+            def fun(z, differences=differences):
+                r, J, _ = self.residual(z * scale, omega, applied, condensed,
+                                        differences=differences)
+                return r / scale, J
+
+            solution = scipy.optimize.root(fun, x / scale, jac=True, method="hybr",
+                                           options={"xtol": tolerance,
+                                                    "maxfev": max_iterations})
+            trial = solution.x * scale
+            r, _ = self.residual(trial, omega, applied, condensed, jacobian=False)
+            trial_error = float(np.abs(r).max()) / scale
+            if trial_error < error:
+                x, error = trial, trial_error
+            if error <= 1e3 * tolerance:
+                break
         return x, self.evaluations - before, error
 
     def coordinates(self, x, omega, applied, forces):
