@@ -87,15 +87,18 @@ def load_model(path):
 
     What the model derives from its parameters (a Pol-Ind contact, kernel
     arrays) is built here too, so that a parameter that gives no valid model
-    is blamed on the model file, not on a motion or data file read later.
+    is blamed on the model file, not on a motion or data file read later; a
+    model of one's own (a plugin) has its compiled functions checked
+    (:func:`polind.models.registry.check_compiled`).
     """
     import polind
-
     from polind.cli import check_interrupted
+    from polind.models.registry import check_compiled
 
     with blame(path):
         model = polind.load_model(path)
-        model.step_kernel()
+        # A plugin's functions that give no force are named here, not by numba in a run.
+        check_compiled(model, model.step_kernel())
     check_interrupted()
     return model
 
