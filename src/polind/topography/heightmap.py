@@ -9,7 +9,14 @@ Sources:
 
 - every format SurfaceTopography reads (x3p, sur, plu, opd, datx, di, and
   about 35 more), with the file's own pixel size and units, converted to
-  metres; SurfaceTopography is imported only when such a file is read.  A
+  metres; SurfaceTopography is imported only when such a file is read.  The
+  format is the one the file's extension names; only a file that is no
+  readable file of that format, or has an extension no format claims, is
+  recognised from its content, and then only by a format's signature
+  (the bytes it starts with) or, without an extension of its own, by a
+  reader that parses it: random or damaged bytes are "not a height map",
+  never taken for a format that would read any bytes (a NASA SRTM ``.hgt``
+  tile is any file of ``2 n^2`` bytes: read only from a ``.hgt`` file).  A
   file with several channels (an AFM's height, amplitude, phase, ...) gives
   the channel asked for by name, else SurfaceTopography's default channel if
   it holds heights, else the first height channel; the map records which
@@ -32,7 +39,8 @@ from polind.errors import InputError, describe
 from polind.resources import check_memory
 from polind.validation import check_number
 
-__all__ = ["BYTES_PER_POINT", "HeightMap", "LARGEST_HEIGHT", "read_height_map",
+__all__ = ["BYTES_PER_POINT", "HeightMap", "LARGEST_HEIGHT", "SMALLEST_HEIGHT", "check_pixel_size",
+           "read_height_map",
            "surface_topography", "GRID_SUFFIXES"]
 
 #: What reading and analysing a map holds per grid point at its peak [bytes]: the heights,
@@ -42,6 +50,11 @@ BYTES_PER_POINT = 64
 #: The largest height [m] and the range of pixel sizes [m] a map may have: its heights
 #: squared and summed, and divided by the square of its pixel sizes, stay finite doubles.
 LARGEST_HEIGHT = 1e100
+#: The smallest size [m] the largest height of a map with summits may have
+#: (:func:`polind.topography.analyse`): the squares of its heights (the rms height, the
+#: slopes, the power spectrum) stay normal doubles, not 0 (below about 1e-154 m they
+#: underflow).  A map below it is not in metres.
+SMALLEST_HEIGHT = 1e-100
 _PIXEL_RANGE = (1e-100, 1e100)
 # Bytes of memory per byte of a .csv grid read as text (the text, its lines, the parse).
 _CSV_GRID_BYTES_PER_BYTE = 16
@@ -92,7 +105,10 @@ class HeightMap:
             holds an infinite value or a height beyond
             :data:`polind.topography.heightmap.LARGEST_HEIGHT` in size, has
             no valid point, or the pixel size is not two positive numbers
-            from 1e-100 to 1e100 m; the message names ``source``.
+            from 1e-100 to 1e100 m; the message names ``source``.  (Heights
+            too small to analyse, below
+            :data:`polind.topography.heightmap.SMALLEST_HEIGHT`, are
+            refused by :func:`polind.topography.analyse`.)
 
         Examples
         --------
@@ -100,7 +116,7 @@ class HeightMap:
         >>> m.grid, m.pixel_size, m.valid_points
         ((3, 3), (1e-06, 2e-06), 9)
         """
-        dx, dy = _pixel_size(pixel_size)
+        dx, dy = check_pixel_size(pixel_size)
         if isinstance(heights, np.ma.MaskedArray):
             heights = np.ma.filled(heights.astype(np.float64), np.nan)
         try:
@@ -139,7 +155,8 @@ class HeightMap:
         return int(np.count_nonzero(~np.isnan(self.heights)))
 
 
-def _pixel_size(pixel_size) -> tuple[float, float]:
+def check_pixel_size(pixel_size) -> tuple[float, float]:
+    """``(dx, dy)`` [m] checked: two numbers from 1e-100 to 1e100 m, else InputError."""
     try:
         values = list(pixel_size)
     except TypeError:
@@ -163,8 +180,9 @@ def read_height_map(path, pixel_size=None, channel=None) -> HeightMap:
     Parameters
     ----------
     path : str or os.PathLike
-        A file SurfaceTopography reads (its format detected from its
-        content), or a ``.npy`` / ``.csv`` grid of heights in metres.
+        A file SurfaceTopography reads (in the format its extension names,
+        else the one its content shows, see the module notes), or a
+        ``.npy`` / ``.csv`` grid of heights in metres.
     pixel_size : pair of float, optional
         ``(dx, dy)`` [m]: required for a ``.npy`` / ``.csv`` grid and for a
         file that gives no physical size; refused for a file that gives its
@@ -186,7 +204,9 @@ def read_height_map(path, pixel_size=None, channel=None) -> HeightMap:
     ------
     polind.InputError
         One line naming the file and what was expected: the file is
-        missing or unreadable, is a line scan, gives no unit, a grid has no
+        missing or unreadable, is not a height map (random or damaged
+        bytes: no readable file of the format its name gives, and no other
+        format's signature), is a line scan, gives no unit, a grid has no
         pixel size, every point is missing, the file has no channel of that
         name (the message lists its channels) or the channel holds no
         heights, ...
@@ -202,7 +222,7 @@ def read_height_map(path, pixel_size=None, channel=None) -> HeightMap:
     """
     name = os.fspath(path)
     if pixel_size is not None:  # checked before a long read
-        _pixel_size(pixel_size)
+        check_pixel_size(pixel_size)
     if channel is not None and (not isinstance(channel, str) or not channel):
         raise InputError(f"The 'channel' parameter of {_OWNER} must be a channel's name. Got "
                          f"{describe(channel)} instead.")
@@ -249,8 +269,9 @@ def _npy_shape(name):
             offset = stream.tell()
             size = os.fstat(stream.fileno()).st_size
     except (OSError, ValueError, EOFError) as error:
-        raise InputError(f"{name}: cannot be read as a NumPy .npy array ({_first_line(error)}); "
-                         f"expected a two-dimensional array of heights in metres.") from None
+        raise InputError(f"{name}: not a height map: cannot be read as a NumPy .npy array "
+                         f"({_first_line(error)}); expected a two-dimensional array of heights "
+                         f"in metres.") from None
     if len(shape) == 2:
         _check_map_memory(name, *shape)
     declared = math.prod(shape) * dtype.itemsize
@@ -266,8 +287,9 @@ def _read_npy(name) -> np.ndarray:
     try:
         array = np.load(name, allow_pickle=False)
     except (OSError, ValueError, EOFError) as error:
-        raise InputError(f"{name}: cannot be read as a NumPy .npy array ({_first_line(error)}); "
-                         f"expected a two-dimensional array of heights in metres.") from None
+        raise InputError(f"{name}: not a height map: cannot be read as a NumPy .npy array "
+                         f"({_first_line(error)}); expected a two-dimensional array of heights "
+                         f"in metres.") from None
     if not isinstance(array, np.ndarray) or not (np.issubdtype(array.dtype, np.floating)
                                                  or np.issubdtype(array.dtype, np.integer)):
         kind = getattr(array, "dtype", type(array).__name__)
@@ -285,7 +307,10 @@ def _read_csv_grid(name) -> np.ndarray:
     try:
         with open(name, encoding="utf-8-sig") as handle:
             text = handle.read()
-    except (OSError, UnicodeDecodeError) as error:
+    except UnicodeDecodeError as error:
+        raise InputError(f"{name}: not a height map: not UTF-8 text ({_first_line(error)}); "
+                         f"expected a CSV grid of heights in metres.") from None
+    except OSError as error:
         raise InputError(f"{name}: cannot be read ({_first_line(error)}); expected a CSV grid "
                          f"of heights in metres.") from None
     try:
@@ -376,21 +401,88 @@ def surface_topography(height_map: HeightMap):
     return SurfaceTopography.Topography(heights, (nx * dx, ny * dy), unit="m", periodic=False)
 
 
-def _read_with_surface_topography(name, pixel_size, channel) -> HeightMap:
-    SurfaceTopography = _import_surface_topography(name)
-    from SurfaceTopography.Exceptions import CannotDetectFileFormat
+# Formats without any signature in their content, read only from a file named for them: a
+# NASA SRTM tile (.hgt) is any file of 2 n^2 bytes, which random bytes often are.
+_BY_NAME_ONLY = ("hgt",)
+# What the format detection reads of a file (SurfaceTopography's magic buffer).
+_MAGIC_BYTES = 512
+_READABLE = ("expected a height map in a format SurfaceTopography reads (x3p, sur, plu, opd, "
+             "datx, di, ...) or a .npy/.csv grid with a pixel size")
+
+
+def _named_formats(name, readers) -> list:
+    """The readers whose file extension ``name`` ends in (``.dat``: two formats)."""
+    suffix = os.path.splitext(name)[1].lower().lstrip(".")
+    if not suffix:
+        return []
+    named = []
+    for reader in readers:
+        try:
+            extensions = [extension.lower() for extension in reader.file_extensions() or ()]
+        except Exception:  # noqa: BLE001 - a reader that names no extension
+            continue
+        if suffix in extensions:
+            named.append(reader)
+    return named
+
+
+def _open_reader(SurfaceTopography, name):
+    """An open SurfaceTopography reader of the file, or InputError: it is not a height map.
+
+    The file's name decides first: a name ending in a format's extension is
+    read as that format (``.dat``, either of its two).  Only if it is no
+    readable file of that format does its content decide, and then only a
+    format whose signature (the bytes it starts with) the file carries: a
+    damaged ``.x3p`` is not passed off as a format that reads any bytes.  A
+    file of another name is detected from its content, among every format
+    but those without a signature (:data:`_BY_NAME_ONLY`), which need their
+    own name.
+    """
+    from SurfaceTopography.IO import MagicMatch, readers
 
     try:
-        reader = SurfaceTopography.open_topography(name)
-    except CannotDetectFileFormat:
+        with open(name, "rb") as stream:
+            magic = stream.read(_MAGIC_BYTES)
+    except OSError as error:
+        raise InputError(f"{name}: cannot be read ({_first_line(error)}); expected a height "
+                         f"map.") from None
+    named = _named_formats(name, readers)
+    failures = []
+    for reader in named:
+        if reader.can_read(magic) == MagicMatch.NO:
+            failures.append(f"its first bytes are no {reader.format()} signature")
+            continue
+        try:
+            return SurfaceTopography.open_topography(name, format=reader.format())
+        except MemoryError:
+            raise
+        except Exception as error:  # noqa: BLE001 - a reader's failure is a fault of the file
+            failures.append(_first_line(error))
+    for reader in readers:
+        if reader in named or reader.format() in _BY_NAME_ONLY:
+            continue
+        match = reader.can_read(magic)
+        if match == MagicMatch.NO or (named and match != MagicMatch.YES):
+            continue
+        try:
+            return SurfaceTopography.open_topography(name, format=reader.format())
+        except MemoryError:
+            raise
+        except Exception:  # noqa: BLE001 - not this format; the next may read it
+            continue
+    if named:
+        formats = " or ".join(f"{reader.name()} ({reader.format()})" for reader in named)
         raise InputError(f"{name}: SurfaceTopography recognises no height-map format in this "
-                         f"file; expected a height map in a format it reads (x3p, sur, plu, opd, "
-                         f"datx, di, ...) or a .npy/.csv grid with a pixel size.") from None
-    except MemoryError:
-        raise
-    except Exception as error:  # noqa: BLE001 - a reader's failure is a fault of the file
-        raise InputError(f"{name}: SurfaceTopography cannot read this file "
-                         f"({_first_line(error)}); expected a readable height map.") from None
+                         f"file, which is not a height map: it is no readable {formats} file, "
+                         f"the format its name gives ({'; '.join(failures)}), and carries no "
+                         f"other format's signature; {_READABLE}.")
+    raise InputError(f"{name}: SurfaceTopography recognises no height-map format in this file, "
+                     f"which is not a height map; {_READABLE}.")
+
+
+def _read_with_surface_topography(name, pixel_size, channel) -> HeightMap:
+    SurfaceTopography = _import_surface_topography(name)
+    reader = _open_reader(SurfaceTopography, name)
     try:
         return _height_map_of(reader, name, pixel_size, channel)
     finally:
@@ -437,14 +529,15 @@ def _height_map_of(reader, name, pixel_size, wanted=None) -> HeightMap:
     """A height channel of an open SurfaceTopography reader, in metres."""
     channel = _choose_channel(reader, name, wanted)
     if channel.dim != 2:
-        raise InputError(f"{name}: is a line scan ({channel.dim}-dimensional data); expected "
-                         f"a two-dimensional height map.")
+        raise InputError(f"{name}: not a height map: read as {_format_name(reader)} data, it "
+                         f"is a line scan ({channel.dim}-dimensional data); expected a "
+                         f"two-dimensional height map.")
     nx, ny = (int(n) for n in channel.nb_grid_pts)
     # The format SurfaceTopography took the file for: a damaged file may pass for another.
     taken = f"read as {_format_name(reader)} data of {nx} x {ny} points"
     if min(nx, ny) < 3:
-        raise InputError(f"{name}: {taken}, which is no height map; expected a height map of "
-                         f"at least 3 x 3 points (is the file truncated or damaged?).")
+        raise InputError(f"{name}: not a height map: {taken}; expected a height map of at "
+                         f"least 3 x 3 points (is the file truncated or damaged?).")
     if channel.unit is None:
         raise InputError(f"{name}: {taken}, the file gives no length unit, so its heights "
                          f"cannot be converted to metres; expected a height map with units, "
@@ -457,7 +550,7 @@ def _height_map_of(reader, name, pixel_size, wanted=None) -> HeightMap:
                              f"size [dx, dy] in metres to be given with it.")
         from SurfaceTopography.Support.UnitConversion import get_unit_conversion_factor
 
-        dx, dy = _pixel_size(pixel_size)
+        dx, dy = check_pixel_size(pixel_size)
         nx, ny = channel.nb_grid_pts
         metres_per_unit = get_unit_conversion_factor(channel.unit, "m")
         options["physical_sizes"] = (nx * dx / metres_per_unit, ny * dy / metres_per_unit)
@@ -472,8 +565,9 @@ def _height_map_of(reader, name, pixel_size, wanted=None) -> HeightMap:
     except MemoryError:
         raise
     except Exception as error:  # noqa: BLE001 - a reader's failure is a fault of the file
-        raise InputError(f"{name}: SurfaceTopography cannot read the heights of this file "
-                         f"({_first_line(error)}); expected a readable height map.") from None
+        raise InputError(f"{name}: not a height map: SurfaceTopography cannot read the heights "
+                         f"of this file ({_first_line(error)}); expected a readable height "
+                         f"map.") from None
     return HeightMap.from_array(heights, (dx, dy), name, channel.channel_id)
 
 
