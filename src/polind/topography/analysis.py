@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import functools
 import math
+import os
 import warnings
 from dataclasses import dataclass
 
@@ -31,7 +32,8 @@ import numpy as np
 
 from polind.errors import InputError
 from polind.validation import check_number
-from polind.topography.heightmap import HeightMap, read_height_map
+from polind.topography.heightmap import (LARGEST_HEIGHT, SMALLEST_HEIGHT, HeightMap,
+                                         check_pixel_size, read_height_map)
 from polind.topography.outliers import OUTLIER_THRESHOLD, find_outliers
 from polind.topography.roughness import standard_roughness
 from polind.topography.summits import (check_levelling, find_summits, level_map, low_pass,
@@ -280,8 +282,17 @@ class MeasuredSurface:
         ``effective_modulus`` ``E*`` [Pa] and ``hardness`` ``H`` [Pa]:
         ``plasticity_index`` (:meth:`plasticity_index`).
         Every number is finite: a map whose statistics pass double precision is an
-        InputError naming the key.
+        InputError naming the key.  The hardness and modulus are checked
+        first, before the statistics (the cut-off study low-passes the map
+        several times) are computed.
         """
+        if effective_modulus is not None or hardness is not None:
+            if effective_modulus is None or hardness is None:
+                missing = "effective_modulus" if effective_modulus is None else "hardness"
+                raise InputError(f"The plasticity index of topography needs both a hardness and "
+                                 f"an effective modulus; expected the '{missing}' too.")
+            check_number("topography", "effective_modulus", effective_modulus, "positive")
+            check_number("topography", "hardness", hardness, "positive")
         summary = {
             "grid": list(self.grid),
             "pixel_size": [float(size) for size in self.pixel_size],
@@ -311,13 +322,35 @@ class MeasuredSurface:
             raise InputError(f"{self.source}: its {key} is {value} (beyond double "
                              f"precision); expected heights and pixel sizes of a physical "
                              f"size.")
-        if effective_modulus is not None or hardness is not None:
-            if effective_modulus is None or hardness is None:
-                missing = "effective_modulus" if effective_modulus is None else "hardness"
-                raise InputError(f"The plasticity index of topography needs both a hardness and "
-                                 f"an effective modulus; expected the '{missing}' too.")
+        bad = _first_underflow(summary)
+        if bad is not None:
+            key, value = bad
+            raise InputError(f"{self.source}: its {key} is {value!r} (below double precision: "
+                             f"a map with summits has a positive one); expected heights and "
+                             f"pixel sizes of a physical size.")
+        if effective_modulus is not None:
             summary["plasticity_index"] = self.plasticity_index(effective_modulus, hardness)
         return summary
+
+
+#: Keys of :meth:`MeasuredSurface.summary` positive for every map with a summit: one that
+#: is 0 or subnormal has underflowed (heights tiny against the pixel size, or the reverse).
+_POSITIVE_KEYS = ("nominal_area", "rms_height", "summit_density", "summit_radius_mean",
+                  "summit_radius_median", "roughness.Sa", "roughness.Sq", "roughness.Sku",
+                  "roughness.Sdq", "roughness.rms_curvature",
+                  "greenwood_williamson.asperity_density", "greenwood_williamson.asperity_radius")
+_TINY = float(np.finfo(np.float64).tiny)
+
+
+def _first_underflow(summary):
+    """``(key, number)`` of the first of :data:`_POSITIVE_KEYS` below the smallest normal double."""
+    for key in _POSITIVE_KEYS:
+        value = summary
+        for part in key.split("."):
+            value = value[part]
+        if not value >= _TINY:
+            return key, value
+    return None
 
 
 def _first_non_finite(value, where=""):
@@ -373,8 +406,24 @@ def analyse(height_map: HeightMap, short_cutoff=None, *, remove_outliers=False,
     ------
     polind.InputError
         If the cut-off is not a number of at least twice the smaller pixel
-        spacing, the levelling is unknown, the mean plane is not determined
-        or the map has no summit; the message names the map's source.
+        spacing, the levelling is unknown, the mean plane is not determined,
+        the map has no summit, or its largest height is below
+        :data:`~polind.topography.heightmap.SMALLEST_HEIGHT` (1e-100 m) in
+        size; the message names the map's source.
+
+    Notes
+    -----
+    The heights analysed: the largest of them from 1e-100 to 1e100 m in
+    size (:data:`~polind.topography.heightmap.SMALLEST_HEIGHT`,
+    :data:`~polind.topography.heightmap.LARGEST_HEIGHT`).  That is far wider
+    than any measured surface (picometres to millimetres), and as wide as
+    double precision lets the analysis square and sum heights.  A map
+    scaled by 1e-300 is refused, not analysed: its squares underflow to 0,
+    which would report an rms height of 0 beside a dozen summits.  Heights
+    that small are not in metres, and the message says what range is
+    accepted.  A flat map is "no summit" at any scale.  Where the pixel size
+    pushes a statistic below double precision all the same (tiny heights on
+    huge pixels), :meth:`MeasuredSurface.summary` refuses it by name.
 
     Examples
     --------
@@ -417,6 +466,12 @@ def analyse(height_map: HeightMap, short_cutoff=None, *, remove_outliers=False,
         raise InputError(f"{height_map.source}: the map has no summit (no interior point with "
                          f"8 valid neighbours stands above all of them by more than the "
                          f"round-off of levelling); expected a rough surface.")
+    if largest < SMALLEST_HEIGHT:
+        raise InputError(f"{height_map.source}: the largest height is {largest:.3g} m in size; "
+                         f"expected heights in metres of a physical size, the largest from "
+                         f"{SMALLEST_HEIGHT:g} to {LARGEST_HEIGHT:g} m (the squares of smaller "
+                         f"heights fall below double precision: the rms height and the slopes "
+                         f"would come out 0).")
     surface = MeasuredSurface(
         height_map=analysed,
         summit_index=(i, j),
@@ -534,8 +589,14 @@ def load_measured_surface(path, pixel_size=None, short_cutoff=None, *, remove_ou
     -------
     MeasuredSurface
     """
-    if short_cutoff is not None:  # checked before a long read
+    # Checked before a long read: the options alone, and the cut-off against a given pixel size.
+    if short_cutoff is not None:
         check_number("topography", "short_cutoff", short_cutoff, "positive")
+        if pixel_size is not None:
+            check_cutoff(short_cutoff, check_pixel_size(pixel_size), os.fspath(path))
     check_levelling(levelling)
+    if not isinstance(remove_outliers, (bool, np.bool_)):
+        raise InputError(f"The 'remove_outliers' parameter of topography must be true or false. "
+                         f"Got {remove_outliers!r} instead.")
     return analyse(read_height_map(path, pixel_size, channel), short_cutoff,
                    remove_outliers=remove_outliers, levelling=levelling)
