@@ -133,10 +133,8 @@ def topography(map_path, as_json, plot_path, pixel_size, short_cutoff, remove_ou
     if to_stdout and as_json:
         raise InputError("--plot -: the PNG and --json would both go to standard output; "
                          "expected a file name for --plot.")
-    if hardness is not None and effective_modulus is None:
-        raise InputError("--hardness: the plasticity index needs the pair's effective modulus "
-                         "too; expected --effective-modulus E* [Pa] with it.")
     with blame(map_path):
+        _check_topography_options(hardness, effective_modulus, pixel_size, short_cutoff)
         surface = measured.load_measured_surface(
             map_path, pixel_size=pixel_size, short_cutoff=short_cutoff,
             remove_outliers=remove_outliers, levelling=levelling, channel=channel)
@@ -160,6 +158,32 @@ def topography(map_path, as_json, plot_path, pixel_size, short_cutoff, remove_ou
         io.atomic_write_bytes(plot_path, figure)
         if not (to_stdout or as_json):
             click.echo(f"\nwrote {plot_path}")
+
+
+def _check_topography_options(hardness, effective_modulus, pixel_size, short_cutoff) -> None:
+    """Every option of ``polind topography`` checked before the map is read or analysed.
+
+    The map's own checks (its pixel size against ``--short-cutoff`` for a
+    file that gives its own) need the file; everything the options alone
+    decide is refused here, so that a mistyped number costs no analysis.
+    """
+    from polind.topography.analysis import check_cutoff
+    from polind.topography.heightmap import check_pixel_size
+    from polind.validation import check_number
+
+    if hardness is not None and effective_modulus is None:
+        raise InputError("--hardness: the plasticity index needs the pair's effective modulus "
+                         "too; expected --effective-modulus E* [Pa] with it.")
+    if hardness is not None:
+        check_number("topography", "hardness", hardness, "positive")
+    if effective_modulus is not None:
+        check_number("topography", "effective_modulus", effective_modulus, "positive")
+    if pixel_size is not None:
+        pixel_size = check_pixel_size(pixel_size)
+    if short_cutoff is not None:
+        check_number("topography", "short_cutoff", short_cutoff, "positive")
+        if pixel_size is not None:
+            check_cutoff(short_cutoff, pixel_size, "--short-cutoff")
 
 
 def _topography_text(map_path, summary, plot_path, to_stdout) -> list:
