@@ -172,7 +172,11 @@ def build_contact(params: Mapping, base_dir=None, *, surface=None) -> Contact:
     ------
     polind.InputError
         If a value used here is of the wrong type or out of range, the
-        heights file is bad, or the surface cannot carry the load.
+        heights file is bad, or the surface cannot carry the load: also a
+        load so small that no summit would be in contact (below a direct
+        surface's :attr:`~polind.contact.surface.DirectSurface.smallest_load`;
+        a contact carrying no asperity has no friction element and rests on
+        nothing, so it is refused, not run).
 
     Examples
     --------
@@ -193,6 +197,12 @@ def build_contact(params: Mapping, base_dir=None, *, surface=None) -> Contact:
     elements = element_table(
         surface, separation, static_coefficient, discretisation["elements"], normal_load=normal_load
     )
+    if len(elements) == 0:
+        # The separation solve refuses such loads (DirectSurface.smallest_load): a contact
+        # resting on no asperity has no element to carry mu_s N and is no contact.
+        raise InputError(f"The 'normal_load' of pol-ind leaves no summit in contact at the "
+                         f"separation {separation!r} m. Got {normal_load!r} N; expected a load "
+                         f"that some asperity carries.")
     unmatched = normal_load - float(surface.normal_load(separation))
     if abs(unmatched) <= RELATIVE_TOLERANCE * normal_load:
         unmatched = 0.0

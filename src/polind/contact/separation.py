@@ -31,8 +31,16 @@ Loads the surface cannot carry are :class:`polind.InputError`:
   the range over which the ``F_m`` are verified to 1e-10;
 - direct surface from a measured map: a load above ``N`` at its lowest
   summit (every measured summit in contact; the map cannot carry it);
-- other direct surfaces: nothing more.  Any positive load has a separation below
-  the highest summit (the load tends to 0 as ``d`` tends to it); a load
+- any direct surface: a load below its
+  :attr:`~polind.contact.surface.DirectSurface.smallest_load`, the load of
+  its highest summit at an interference of one unit in the last place of
+  that summit's height.  In real numbers every positive load has a
+  separation below the highest summit (the load tends to 0 as ``d`` tends
+  to it); in doubles a smaller load would leave no summit in contact at any
+  separation: a contact resting on no asperity, with no element to carry
+  ``mu_s N``, which is no contact at all (some ``1e-24`` N for summits at
+  micrometres);
+- other direct surfaces: nothing more.  A load
   above ``N(lowest summit)`` puts the flat below every summit, all in
   contact, and is accepted, because an element table used as a surface
   (:meth:`polind.contact.elements.ElementTable.as_surface`) must carry the
@@ -98,6 +106,14 @@ def _checked_initial(value) -> float:
 def _check_reachable(surface, load: float, where: str = "") -> None:
     """Raise InputError if no separation in the surface's range carries ``load``."""
     smallest, largest = surface.load_range
+    if surface.kind == "direct" and load < smallest:
+        raise InputError(
+            f"The 'normal_load' of pol-ind is too small for its summits: their highest, at "
+            f"{float(surface.heights[-1]):.6g} m, would carry it at an interference below the "
+            f"spacing of doubles at that height, so no summit would be in contact and no "
+            f"asperity would carry the load. Got {load!r} N{where}; expected at least "
+            f"{smallest:.6g} N."
+        )
     if surface.kind == "direct" and load > largest:
         raise InputError(
             f"The 'normal_load' of pol-ind is more than the measured surface "

@@ -468,11 +468,36 @@ class DirectSurface(ElasticPlasticSums):
         return self.lowest_separation, float(self.heights[-1])
 
     @property
+    def smallest_load(self) -> float:
+        """The smallest load [N] a separation in double precision lets a summit carry.
+
+        ``N`` one unit in the last place below the highest summit (the
+        closest separation to it a double holds): the highest summit(s) at an
+        interference of that one unit.  A smaller load would need a smaller
+        interference than any double below the summit's height gives, so at
+        every separation the solver could return no summit would be in
+        contact: the load would rest on no asperity and the element table
+        would be empty (no break-away force for ``mu_s N``).  It is some
+        ``1e-24`` N for summits at micrometres; 0 for a highest summit at 0.
+        :func:`polind.contact.separation.solve_separation` refuses loads
+        below it.
+        """
+        highest = float(self.heights[-1])
+        return float(self.normal_load(np.nextafter(highest, -math.inf)))
+
+    @property
     def load_range(self) -> tuple[float, float]:
-        """Loads [N] the surface can carry: every positive load, or up to ``N(lowest_separation)``."""
+        """Loads [N] the surface can carry: from :attr:`smallest_load` up to ``N(lowest_separation)``.
+
+        In real numbers every positive load has a separation; in doubles a
+        load below :attr:`smallest_load` leaves no summit in contact.  The
+        largest is unbounded, unless :attr:`lowest_separation` (a measured
+        map) stops the flat at the lowest summit.
+        """
+        smallest = self.smallest_load
         if math.isfinite(self.lowest_separation):
-            return 0.0, float(self.normal_load(self.lowest_separation))
-        return 0.0, math.inf
+            return smallest, float(self.normal_load(self.lowest_separation))
+        return smallest, math.inf
 
     @cached_property
     def height_statistics(self) -> tuple[float, float]:
