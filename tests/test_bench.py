@@ -128,6 +128,24 @@ def test_every_ratio_row_has_a_target_and_the_numpy_scalar_rows_are_there():
     # a structure step with one 64-element joint: at most 3 simulate_system steps (issue 38)
     structure = by_name["structure / simulate_system step: 64-element MS joint"]
     assert structure.target == 3.0 and structure.at_most
+    # the frequency domain (issue 39): harmonic balance at least 10 times the time
+    # integration's speed, and its 200-point curve within 30 s
+    speed = by_name["time integration / harmonic balance: 200-point curve"]
+    assert speed.target == 10.0 and not speed.at_most
+    seconds = by_name["harmonic balance, 200-point curve: seconds (absolute)"]
+    assert seconds.target == 30.0 and seconds.at_most
+
+
+def test_the_frequency_rows_time_a_curve_that_agrees_with_the_time_integration():
+    """The harmonic-balance timing measures a real curve: its first harmonic is the time
+    integration's steady state (the detail reports it), at a reduced size here."""
+    from polind.bench import frequency
+
+    hb_seconds, td_seconds, count, detail = frequency.frequency_response_timing(points=40,
+                                                                               probes=1)
+    assert hb_seconds > 0 and td_seconds > 0 and 20 <= count <= 60
+    agreement = float(detail.rsplit(" ", 1)[-1])
+    assert agreement < 1e-3
 
 
 def test_run_ratios_runs_the_rows_asked_for(monkeypatch):

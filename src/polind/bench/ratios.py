@@ -29,6 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from polind.bench.frequency import frequency_response_timing
 from polind.bench.harness import bench_path
 from polind.bench.references import bare_call, bare_lugre, bare_maxwell_slip, plain_gms
 from polind.models import GMS, LuGre, MaxwellSlip, PolInd
@@ -480,6 +481,12 @@ def ratio_specs():
     # A structure (issue 38): a 64-element joint between two masses.
     add("structure / simulate_system step: 64-element MS joint",
         lambda: structure_step_ratio(MaxwellSlip.example(elements=64)), 3.0)
+    # The frequency domain (issue 39): a 200-point curve of the two-mass example.
+    timing = functools.cache(frequency_response_timing)
+    add("time integration / harmonic balance: 200-point curve",
+        lambda: (timing()[1] / timing()[0], timing()[3]), 10.0, False)
+    add("harmonic balance, 200-point curve: seconds (absolute)",
+        lambda: (timing()[0], "the same curve's wall-clock seconds"), 30.0)
     add("bare loop / simulate: Maxwell-slip, 64 elements",
         lambda: maxwell_slip_simulate_ratio(64, 1_000_000), 0.7, False)
     add("bare loop / simulate: Maxwell-slip, 1024 elements",
