@@ -83,7 +83,8 @@ def _removing_on_signals():
     """Turn SIGTERM and SIGHUP into an exception while a temporary file exists.
 
     SIGINT is already KeyboardInterrupt.  Only the main thread can set
-    handlers; elsewhere the signals keep their handlers.
+    handlers; elsewhere the signals keep their handlers, and so does a signal
+    that is ignored (``nohup`` ignores SIGHUP: the write goes on).
     """
     import signal
     import threading
@@ -95,7 +96,8 @@ def _removing_on_signals():
     def terminate(number, frame):
         raise _Terminated(number)
 
-    names = [name for name in ("SIGTERM", "SIGHUP") if hasattr(signal, name)]
+    names = [name for name in ("SIGTERM", "SIGHUP") if hasattr(signal, name)
+             and signal.getsignal(getattr(signal, name)) is not signal.SIG_IGN]
     previous = {name: signal.signal(getattr(signal, name), terminate) for name in names}
     try:
         yield

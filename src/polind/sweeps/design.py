@@ -33,7 +33,7 @@ from polind.io import (check_tables, read_document, read_motion_csv,
 from polind.models import FrictionModel, model_from_dict, read_model_document
 from polind.models.params import Table
 from polind.sweeps.metrics import METRICS, NEEDS
-from polind.sweeps.runs import RunPlan
+from polind.sweeps.runs import RunPlan, file_digest
 
 __all__ = ["METHODS", "SWEEP_KEYS", "SYSTEM_KEYS", "Axis", "Sweep", "is_finite", "is_number",
            "is_whole", "load_sweep"]
@@ -464,7 +464,7 @@ class Sweep:
                 files.extend(self._path(value) for value in axis.values)
         if self.motion_file is not None:
             files.append(self.motion_file)
-        return {name: _file_digest(name) for name in dict.fromkeys(files)}
+        return {name: file_digest(name) for name in dict.fromkeys(files)}
 
     def fingerprint(self, digests=None) -> str:
         """A digest of what every run shares: model, system or motion, metrics, polind's version.
@@ -518,23 +518,25 @@ class Sweep:
         return {"fingerprint": self.fingerprint(digests), "files": digests,
                 "sweep": self.name, "runs": self.runs}
 
-    def plan(self) -> RunPlan:
-        """What every run needs (:class:`polind.sweeps.runs.RunPlan`)."""
+    def plan(self, digests=None) -> RunPlan:
+        """What every run needs (:class:`polind.sweeps.runs.RunPlan`).
+
+        ``digests`` (default :meth:`file_digests`, read now) are the SHA-256
+        each run checks the files it reads against, before and after it runs:
+        those of the record of the results table, so that no row of it comes
+        from another version of a file.
+        """
+        digests = self.file_digests() if digests is None else digests
+        files = {os.path.abspath(name): (name, digests.get(name)) for name in self.model.files()}
+        for axis in self.axes:
+            if axis.kind == "path":
+                for value in axis.values:
+                    opened = value if os.path.isabs(value) else os.path.join(self.base_dir, value)
+                    shown = self._path(value)
+                    files[os.path.abspath(opened)] = (shown, digests.get(shown))
         return RunPlan(model=self.model_table, system=self.system, motion=self.motion,
                        keys=self.keys, kinds=tuple(axis.kind for axis in self.axes),
-                       metrics=self.metrics, base_dir=self.base_dir)
-
-
-def _file_digest(name):
-    """The SHA-256 (hex) of a file's contents, read a MiB at a time; None if it cannot be read."""
-    digest = hashlib.sha256()
-    try:
-        with open(name, "rb") as stream:
-            for block in iter(lambda: stream.read(1 << 20), b""):
-                digest.update(block)
-    except OSError:
-        return None
-    return digest.hexdigest()
+                       metrics=self.metrics, base_dir=self.base_dir, files=files)
 
 
 def load_sweep(path) -> Sweep:

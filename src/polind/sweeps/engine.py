@@ -8,13 +8,24 @@ the workers of an existing Dask distributed cluster
 the sweep and its output, computes the runs missing from the results table
 (:class:`polind.sweeps.results.Results`) on one engine, writes their rows as
 they finish, and returns a :class:`SweepSummary`; Ctrl-C stops it with every
-finished row kept (:class:`SweepInterrupted`).
+finished row kept (:class:`SweepInterrupted`), and so do SIGTERM and SIGHUP
+(the signals a terminal, ``kill`` or a batch system send) while it runs: the
+same rows kept, the lock removed, the same exception (unless the signal was
+ignored when the sweep started, as under ``nohup``).
+
+Every run checks the files it reads against the digests of the table's
+record (:mod:`polind.sweeps.runs`); a run that finds one changed stops the
+sweep with an :class:`~polind.errors.InputError` naming the file, the rows
+finished before the change kept: the rows of a table never mix two versions
+of an input, and the record still holds the digest they were computed with.
 """
 
 from __future__ import annotations
 
+import contextlib
 import itertools
 import os
+import signal
 import threading
 import time
 from dataclasses import dataclass, field
@@ -26,7 +37,7 @@ from polind.resources import check_memory
 from polind.sweeps.cluster import run_dask
 from polind.sweeps.design import Sweep, is_number, is_whole, load_sweep
 from polind.sweeps.results import Results
-from polind.sweeps.runs import RunPlan, run_one
+from polind.sweeps.runs import CHANGED, RunPlan, run_one
 
 __all__ = ["MAX_RUNS", "SweepInterrupted", "SweepSummary", "sweep"]
 
@@ -193,7 +204,7 @@ def sweep(spec, output, *, workers=None, scheduler=None, max_runs=MAX_RUNS,
     check_memory(min(runs, 1e300) * (len(plan.axes) + 2) * 64.0,
                  f"{plan.name}: the design ({_count(runs)} runs)")
     design = plan.design()
-    with Results(name, plan, design) as results:
+    with _signals_interrupt(), Results(name, plan, design) as results:
         todo = [(index, values) for index, values in enumerate(design)
                 if index not in results.rows]
         if todo:
@@ -204,11 +215,15 @@ def sweep(spec, output, *, workers=None, scheduler=None, max_runs=MAX_RUNS,
         counts = {"done": 0, "failed": 0, "lost": 0}
 
         def keep(row):
+            if row.get(CHANGED) is not None:
+                return                  # read another version of a file: not a result
             results.add(row)
             counts["done"] += 1
             counts["failed"] += row["status"] != "ok"
 
         def record(row):
+            if row.get(CHANGED) is not None:
+                raise _changed(row[CHANGED], name)
             keep(row)
             if progress is not None:
                 progress(counts["done"], len(todo), counts["failed"])
@@ -218,17 +233,57 @@ def sweep(spec, output, *, workers=None, scheduler=None, max_runs=MAX_RUNS,
 
         if progress is not None:
             progress(0, len(todo), 0)
+        # The digests the runs check their files against: the table's record.
+        shared = plan.plan(results.record["files"]) if todo else None
         try:
             if todo and scheduler is not None:
-                run_dask(plan.plan(), todo, scheduler, record, keep, lost)
+                run_dask(shared, todo, scheduler, record, keep, lost)
             elif todo:
-                _run_local(plan.plan(), todo, min(threads, len(todo)), record, keep)
+                _run_local(shared, todo, min(threads, len(todo)), record, keep)
         except KeyboardInterrupt:
             results.flush()
             raise SweepInterrupted(name, runs, counts["done"], len(results.rows)) from None
         return SweepSummary(path=name, runs=runs, computed=counts["done"],
                             failed=counts["failed"], lost=counts["lost"],
                             seconds=time.perf_counter() - started, table=results.table())
+
+
+def _changed(file, output) -> InputError:
+    """The refusal of a sweep whose input ``file`` changed while it ran."""
+    return InputError(f"{file}: changed while the sweep ran (its contents are not those "
+                      f"recorded when it started); the rows of one table never mix two "
+                      f"versions of an input: {output} keeps the rows computed before the "
+                      f"change, so put the file back and run the same command again to "
+                      f"compute the rest, or give another --output for the new file")
+
+
+@contextlib.contextmanager
+def _signals_interrupt():
+    """SIGTERM and SIGHUP raise KeyboardInterrupt for the block, as SIGINT does.
+
+    So that a sweep they stop ends as Ctrl-C ends it: finished rows written,
+    lock removed.  Only the main thread can set handlers; elsewhere, and for
+    a signal ignored when the block starts (``nohup``), nothing changes.  The
+    previous handlers are put back at the end.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def interrupt(number, frame):
+        raise KeyboardInterrupt
+
+    previous = {}
+    for signal_name in ("SIGTERM", "SIGHUP"):
+        number = getattr(signal, signal_name, None)
+        if number is None or signal.getsignal(number) is signal.SIG_IGN:
+            continue
+        previous[number] = signal.signal(number, interrupt)
+    try:
+        yield
+    finally:
+        for number, handler in previous.items():
+            signal.signal(number, signal.SIG_DFL if handler is None else handler)
 
 
 def _count(number) -> str:

@@ -34,6 +34,7 @@ import csv
 import json
 import math
 import os
+import threading
 import time
 from io import StringIO
 
@@ -45,9 +46,13 @@ from polind.sweeps.runs import one_line
 
 __all__ = ["Results", "read_results", "record_path"]
 
-# Between two rewrites of a Parquet output at least this long, and ten times as
-# long as the last rewrite took (a long table is rewritten less often).
+# A finished row waits at most this long before a rewrite of a Parquet output starts
+# [s] (the table's rewrite then takes its time), unless the table is so long that
+# its rewrites would take more than a tenth of the time: then up to ten times the
+# last rewrite, as long as the wait and the rewrite together stay within
+# _MOST_SECONDS_LOST, what a kill -9 may lose.
 _FLUSH_SECONDS = 1.0
+_MOST_SECONDS_LOST = 2.0
 
 # The key of the sweep's metadata in a Parquet output (the name of the module that first
 # wrote it, kept so that the outputs of earlier sweeps are still found).
@@ -85,8 +90,10 @@ class Results:
     sweep's, before anything is written); leaving it writes the rows not yet
     written and lets go of the lock.  CSV rows are appended to the file as
     they come (a row per line, in the order runs finish).  A Parquet file is
-    rewritten whole, atomically, at most every ``_FLUSH_SECONDS`` and at the
-    end, its rows sorted by run, with the sweep's record in its metadata.
+    rewritten whole, atomically, by a thread of its own, about a second after
+    a row was added (whether or not more rows come; see :meth:`_wait`), and at
+    the end, its rows sorted by run, with the sweep's record in its metadata:
+    a ``kill -9`` loses the rows of the last two seconds at most.
     """
 
     def __init__(self, path, plan: Sweep, design: list[tuple]):
@@ -97,20 +104,40 @@ class Results:
         self.parquet = self.path.lower().endswith(".parquet")
         self.rows: dict[int, dict] = {}
         self.pending: list[dict] = []
-        self.last_flush = time.monotonic()
-        self.flush_cost = 0.0
+        self.first_pending = None       # when the oldest row not yet written was added
+        self.flush_costs = [0.0]        # of the last rewrites [s] (none yet: no wait longer)
+        self.written = 0                # rows in the Parquet file (those read, then written)
         self.record = None
         self.cut = None                 # where a CSV's complete lines end, if a row was cut
         self._held = None
+        # The rows, between the sweep and the Parquet writer's thread (held briefly), and
+        # the file (held for a write: one at a time).
+        self._lock = threading.Condition(threading.RLock())
+        self._writing = threading.Lock()
+        self._writer = None
+        self._closing = False
+        self._failure = None            # what the writer's thread met, raised by add()
 
     def __enter__(self) -> "Results":
         held = contextlib.ExitStack()
         held.enter_context(writer_lock(self.path, "another sweep"))
         try:
             self.record = self.plan.record()
+            if self.parquet:
+                # Now, not in the first rewrite (the rows would wait for it): pyarrow, and
+                # pandas, which pyarrow imports (when installed) at its first array.
+                import pyarrow as pa
+                import pyarrow.parquet  # noqa: F401
+
+                pa.array([0.0])
             if os.path.exists(self.path):
                 self._read(self.design)
+            if self.parquet:
+                self._writer = threading.Thread(target=self._write_in_time, daemon=True,
+                                                name="polind-sweep-writer")
+                self._writer.start()
         except BaseException:
+            self._stop_writer()
             held.close()
             raise
         self._held = held
@@ -118,10 +145,51 @@ class Results:
 
     def __exit__(self, *exc_info):
         try:
+            self._stop_writer()
             self.flush()
         finally:
             self._held.close()
             self._held = None
+
+    def _stop_writer(self):
+        """End the Parquet writer's thread (after the rewrite it may be doing)."""
+        if self._writer is None:
+            return
+        with self._lock:
+            self._closing = True
+            self._lock.notify_all()
+        self._writer.join()
+        self._writer = None
+
+    def _wait(self) -> float:
+        """How long the oldest unwritten row may wait for its rewrite to start [s].
+
+        A second, or longer for a table whose last three rewrites all took over
+        a tenth of that (a long table): ten times the quickest of them, but no
+        more than leaves that rewrite within ``_MOST_SECONDS_LOST`` in all.
+        """
+        cost = min(self.flush_costs)
+        return max(_FLUSH_SECONDS, min(10.0 * cost, _MOST_SECONDS_LOST - cost))
+
+    def _write_in_time(self):
+        """The Parquet writer's thread: each added row is written within :meth:`_wait`."""
+        while True:
+            with self._lock:
+                if self._closing:
+                    return
+                if self.first_pending is None:
+                    self._lock.wait()
+                    continue
+                left = self.first_pending + self._wait() - time.monotonic()
+                if left > 0.0:
+                    self._lock.wait(left)
+                    continue
+            try:
+                self.flush()
+            except BaseException as error:  # noqa: BLE001 - the sweep raises it
+                with self._lock:
+                    self._failure = error
+                return
 
     def check_writable(self) -> None:
         """Refuse (InputError) an existing table that cannot take the rows to come.
@@ -186,6 +254,7 @@ class Results:
                                        f"{self.plan.name} gives {want!r}")
         for _, row in rows:
             self.rows.setdefault(row["run"], row)
+        self.written = len(self.rows)
 
     def _read_parquet(self):
         import pyarrow as pa
@@ -274,33 +343,57 @@ class Results:
     # -- writing
 
     def add(self, row: dict) -> None:
-        self.rows[row["run"]] = row
-        self.pending.append(row)
+        """Add a finished run's row: appended to a CSV now, to a Parquet file within a second."""
+        with self._lock:
+            if self._failure is not None:
+                failure, self._failure = self._failure, None
+                raise failure
+            self.pending.append(row)
+            self.rows[row["run"]] = row
+            if self.first_pending is None:
+                self.first_pending = time.monotonic()
+                self._lock.notify_all()
         if not self.parquet:
-            self.flush()
-        elif time.monotonic() - self.last_flush >= max(_FLUSH_SECONDS, 10.0 * self.flush_cost):
             self.flush()
 
     def flush(self) -> None:
-        """Put every added row in the file."""
-        if not self.pending:
-            return
-        started = time.monotonic()
-        if self.parquet:
-            self._write_parquet()
-        else:
-            self._append_csv()
-        self.pending = []
-        self.last_flush = time.monotonic()
-        self.flush_cost = self.last_flush - started
+        """Put every added row in the file.
 
-    def _append_csv(self):
+        The rows are taken under the lock and written outside it, so that the
+        sweep adds rows while a long table is rewritten; a write that fails
+        (or is interrupted) puts them back, to be written by the next one.
+        """
+        with self._writing:
+            with self._lock:
+                # A Parquet file holds every row: it is behind until it holds as many.
+                if not self.pending and not (self.parquet and self.written < len(self.rows)):
+                    return
+                pending, first = self.pending, self.first_pending
+                self.pending, self.first_pending = [], None
+                rows = {**self.rows, **{row["run"]: row for row in pending}} \
+                    if self.parquet else None
+            started = time.monotonic()
+            try:
+                if self.parquet:
+                    self._write_parquet(rows)
+                else:
+                    self._append_csv(pending)
+            except BaseException:
+                with self._lock:
+                    self.pending = pending + self.pending
+                    self.first_pending = first
+                raise
+            self.flush_costs = [*self.flush_costs[-2:], time.monotonic() - started]
+            if self.parquet:
+                self.written = len(rows)
+
+    def _append_csv(self, pending):
         buffer = StringIO()
         writer = csv.writer(buffer, lineterminator="\n")
         new = not os.path.exists(self.path) or os.path.getsize(self.path) == 0
         if new:
             writer.writerow(self.columns)
-        for row in self.pending:
+        for row in pending:
             writer.writerow([number_text(row[key]) if isinstance(row[key], float)
                              else str(row[key]) for key in self.columns])
         if new:
@@ -319,7 +412,7 @@ class Results:
         except OSError as error:
             raise InputError(f"{self.path}: cannot write: {error.strerror or error}") from None
 
-    def _write_parquet(self):
+    def _write_parquet(self, rows):
         import pyarrow as pa
         import pyarrow.parquet as pq
 
@@ -328,7 +421,7 @@ class Results:
         metadata = {_METADATA_KEY: json.dumps(self.record).encode()}
         schema = pa.schema([(key, types_of[kinds[key]]) for key in self.columns],
                            metadata=metadata)
-        ordered = [self.rows[index] for index in sorted(self.rows)]
+        ordered = [rows[index] for index in sorted(rows)]
         table = pa.table({key: [row[key] for row in ordered] for key in self.columns},
                          schema=schema)
         with atomic_open(self.path, binary=True) as stream:

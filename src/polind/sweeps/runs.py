@@ -6,17 +6,30 @@ worker; :func:`run_one` sets a run's values in copies of those tables,
 simulates the system (:func:`polind.simulate_system`) or the prescribed
 motion (:func:`polind.simulate`) and computes the metrics
 (:mod:`polind.sweeps.metrics`).  A run that fails is a row all the same, its
-``status`` the one-line error (:func:`one_line`), so that a sweep goes on.
+``status`` the one-line error (:func:`one_line`), so that a sweep goes on;
+so is a run whose output is not finite (NaN or inf from a model, whoever
+wrote it), its status naming the quantity, the sample and the model.
+
+Every file a run reads by name (a ``heights_file``, a ``topography`` map, a
+swept file) is checked against the SHA-256 recorded when the sweep started
+(:attr:`RunPlan.files`), before the run and again after it: a run that may
+have read another version of a file gives no row but a :data:`CHANGED` entry
+naming the file, and the engine stops the sweep on it
+(:mod:`polind.sweeps.engine`), so that the rows of one table never mix two
+versions of an input.
 """
 
 from __future__ import annotations
 
 import copy
+import hashlib
 import math
 import os
 import threading
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+
+import numpy as np
 
 from polind.dynamics import simulate_system, system_from_keys
 from polind.errors import InputError
@@ -24,7 +37,11 @@ from polind.models import model_from_dict
 from polind.simulation import simulate
 from polind.sweeps.metrics import RunOutput
 
-__all__ = ["RunPlan", "one_line", "run_one"]
+__all__ = ["CHANGED", "RunPlan", "file_digest", "one_line", "run_one"]
+
+#: The key of a run's row that names an input file found changed since the sweep started
+#: (such a row is not a result: the engine stops the sweep instead of recording it).
+CHANGED = "changed"
 
 
 class _Cancelled(BaseException):
@@ -42,12 +59,73 @@ class RunPlan:
     kinds: tuple
     metrics: tuple
     base_dir: str
+    #: The files a run may read by name: absolute path to (the name messages show, the
+    #: SHA-256 recorded when the sweep started, None if it could not be read then).
+    files: dict = field(default_factory=dict)
+
+
+def file_digest(name):
+    """The SHA-256 (hex) of a file's contents, read a MiB at a time; None if it cannot be read."""
+    digest = hashlib.sha256()
+    try:
+        with open(name, "rb") as stream:
+            for block in iter(lambda: stream.read(1 << 20), b""):
+                digest.update(block)
+    except OSError:
+        return None
+    return digest.hexdigest()
+
+
+def _changed_file(plan: RunPlan, model) -> tuple:
+    """``(name, None)`` of a file the run reads whose contents are not those recorded, or
+    ``(None, message)`` of one that cannot be read now, or ``(None, None)``."""
+    for path in model.files():
+        entry = plan.files.get(os.path.abspath(path))
+        if entry is None:
+            continue
+        name, recorded = entry
+        now = file_digest(path)
+        if now is None and recorded is not None:
+            return None, (f"{name}: cannot be read now (it could when the sweep started); "
+                          f"expected the file the sweep started with")
+        if now != recorded:
+            return name, None
+    return None, None
+
+
+def _check_finite(output: RunOutput, model) -> None:
+    """InputError naming the first quantity of a run's output that is NaN or infinite."""
+    arrays = (("friction force", output.force), ("driving force", output.applied),
+              ("position", output.x), ("velocity", output.v), ("time", output.t))
+    for quantity, values in arrays:
+        if values is None:
+            continue
+        values = np.asarray(values, dtype=np.float64)
+        bad = ~np.isfinite(values)
+        if bad.any():
+            k = int(np.argmax(bad))
+            at = f" at t = {float(output.t[k]):.6g} s" if k < len(output.t) else ""
+            raise InputError(f"the run's {quantity} is {float(values[k])}{at} (sample {k + 1} "
+                             f"of {values.size}): the {model.type} model gave a value that is "
+                             f"not a finite number; expected a finite output")
 
 
 def one_line(error: BaseException) -> str:
     """An error on one line: its message (after its type's name unless an InputError)."""
     text = " ".join(str(error).split())
     return text if isinstance(error, InputError) else f"{type(error).__name__}: {text}"
+
+
+def _simulate(plan: RunPlan, model, system, progress) -> RunOutput:
+    """The output of one run: the system's (a body) or the prescribed motion's."""
+    if system is not None:
+        body = system_from_keys(system)
+        result = simulate_system(model, body, progress=progress)
+        return RunOutput(result.t, result.x, result.v, result.force, result.applied, body, model)
+    motion = plan.motion
+    result = simulate(model, motion["t"], x=motion.get("x"), v=motion.get("v"),
+                      normal_load=motion.get("normal_load"), progress=progress)
+    return RunOutput(result.t, result.x, result.v, result.force, None, None, model)
 
 
 def run_one(plan: RunPlan, index: int, values: tuple,
@@ -77,18 +155,22 @@ def run_one(plan: RunPlan, index: int, values: tuple,
         if stop is not None and stop.is_set():
             raise _Cancelled
 
+    def changed(name):
+        row[CHANGED] = name
+        row["status"] = f"{name}: changed since the sweep started"
+        row["seconds"] = time.perf_counter() - started
+        return row
+
+    model = None
     try:
         model = model_from_dict({"model": table})
-        if system is not None:
-            body = system_from_keys(system)
-            result = simulate_system(model, body, progress=check_stop)
-            output = RunOutput(result.t, result.x, result.v, result.force, result.applied, body,
-                               model)
-        else:
-            motion = plan.motion
-            result = simulate(model, motion["t"], x=motion.get("x"), v=motion.get("v"),
-                              normal_load=motion.get("normal_load"), progress=check_stop)
-            output = RunOutput(result.t, result.x, result.v, result.force, None, None, model)
+        name, unreadable = _changed_file(plan, model)
+        if name is not None:
+            return changed(name)
+        if unreadable is not None:
+            raise InputError(unreadable)
+        output = _simulate(plan, model, system, check_stop)
+        _check_finite(output, model)
         for metric in plan.metrics:
             value = float(metric.compute(output))
             if math.isinf(value):
@@ -101,5 +183,9 @@ def run_one(plan: RunPlan, index: int, values: tuple,
         for metric in plan.metrics:
             row[metric.name] = math.nan
         row["status"] = one_line(error) or type(error).__name__
+    if model is not None:
+        name, _ = _changed_file(plan, model)    # it may have read another version meanwhile
+        if name is not None:
+            return changed(name)
     row["seconds"] = time.perf_counter() - started
     return row
