@@ -16,6 +16,7 @@
 from __future__ import annotations
 
 import math
+import os
 import signal
 import subprocess
 import sys
@@ -276,6 +277,45 @@ def test_an_unknown_bound_or_kind_is_refused_at_registration(field, value):
     assert text.startswith("The model class Declared declares the parameter 'coulomb_force' "
                            f"{'with the bound' if field == 'bound' else 'of kind'} ")
     assert "expected one of: " in text
+
+
+
+# --- no writable numba cache --------------------------------------------------------------------
+
+def test_no_writable_numba_cache_falls_back_to_a_temporary_folder_with_a_note(tmp_path,
+                                                                              monkeypatch):
+    """A read-only install: NUMBA_CACHE_DIR cannot be made (a file is in the way, which
+    stops root too), and numba's own folders (the package's tree, the home) cannot be
+    written either.  A polind kernel still compiles, caches and runs."""
+    import tempfile
+
+    from numba import njit
+    from numba.core import caching, config
+
+    from polind.kernels import cache, stribeck
+
+    blocker = tmp_path / "a-file"
+    blocker.write_text("")
+    monkeypatch.setattr(config, "CACHE_DIR", str(blocker / "numba"))
+    for name in ("InTreeCacheLocator", "UserWideCacheLocator"):
+        monkeypatch.setattr(getattr(caching, name), "from_function",
+                            classmethod(lambda cls, py_func, py_file: None))
+    temporary = tmp_path / "tmp"
+    temporary.mkdir()
+    monkeypatch.setattr(tempfile, "tempdir", str(temporary))
+    cache.temporary_base.cache_clear()
+    monkeypatch.setattr(cache, "_NOTED", [])
+    try:
+        with pytest.warns(UserWarning, match=r"numba's cache folder .*a-file/numba cannot be "
+                                             r"written; the compiled kernels are cached in "):
+            curve = njit(cache=True)(stribeck.stribeck_curve.py_func)
+        assert curve(1e-3, 1.0, 1.5, 1e-3, 2.0, 0) == \
+            stribeck.stribeck_curve.py_func(1e-3, 1.0, 1.5, 1e-3, 2.0, 0)
+    finally:
+        cache.temporary_base.cache_clear()
+    folder = temporary / f"polind-numba-cache-{os.getuid()}"
+    assert any(path.suffix == ".nbi" for path in folder.rglob("*"))       # cached there
+    assert folder.stat().st_mode & 0o777 == 0o700
 
 
 # --- one finiteness check of every run's forces ------------------------------------------------

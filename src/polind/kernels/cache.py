@@ -14,7 +14,11 @@ every cached kernel that might use it compile again, and an old cache is never
 read.  The folder is under ``NUMBA_CACHE_DIR`` when the user sets it (numba's
 own rule), else in the ``__pycache__`` beside the source, else in numba's
 user-wide cache folder.  Functions outside polind are left to numba's own
-locators.  :func:`install` puts the locator first in numba's list; importing
+locators.  When no locator can write (a read-only install without a
+writable ``NUMBA_CACHE_DIR``), the last, :class:`TemporaryCacheLocator`,
+keeps any function's cache in a folder of the user's under the temporary
+directory (:func:`temporary_base`), and says so once in a warning.
+:func:`install` puts the locators in numba's list; importing
 ``polind.kernels`` calls it, before any kernel is compiled.
 """
 
@@ -22,6 +26,9 @@ from __future__ import annotations
 
 import hashlib
 import os
+import stat
+import tempfile
+import warnings
 from functools import lru_cache
 from pathlib import Path
 
@@ -123,9 +130,83 @@ class KernelCacheLocator(caching._SourceFileBackedLocatorMixin, caching._CacheLo
         return None
 
 
+@lru_cache(maxsize=None)
+def temporary_base() -> str | None:
+    """The folder numba's cache falls back to: the user's own under the temporary directory.
+
+    ``polind-numba-cache-<uid>``, kept from one run to the next, used only if it
+    is a directory of this user's that no one else can write (a cache file is
+    code that numba loads); else a fresh folder for this process; None when the
+    temporary directory cannot be written either.
+    """
+    user = os.getuid() if hasattr(os, "getuid") else "user"
+    folder = os.path.join(tempfile.gettempdir(), f"polind-numba-cache-{user}")
+    try:
+        os.makedirs(folder, mode=0o700, exist_ok=True)
+        status = os.lstat(folder)
+        own = not hasattr(os, "getuid") or status.st_uid == os.getuid()
+        if stat.S_ISDIR(status.st_mode) and own and not status.st_mode & 0o022:
+            return folder
+    except OSError:
+        pass
+    try:
+        return tempfile.mkdtemp(prefix="polind-numba-cache-")
+    except OSError:
+        return None
+
+
+_NOTED = []
+
+
+def _temporary_locator(cls, py_func, py_file, wanted):
+    """``cls``'s locator in :func:`temporary_base` (None if it cannot be written), with a
+    warning, once per process, that ``wanted`` could not be."""
+    base = temporary_base()
+    if base is None:
+        return None
+    locator = cls(py_func, py_file, os.path.join(base, cls.get_suitable_cache_subpath(py_file)))
+    try:
+        locator.ensure_cache_path()
+    except OSError:
+        return None
+    if not _NOTED:
+        _NOTED.append(base)
+        warnings.warn(f"numba's cache folder {wanted} cannot be written; the "
+                      f"compiled kernels are cached in {base} instead (set NUMBA_CACHE_DIR to "
+                      f"a writable folder to keep them)", UserWarning, stacklevel=2)
+    return locator
+
+
+class TemporaryCacheLocator(caching._SourceFileBackedLocatorMixin, caching._CacheLocator):
+    """numba's last locator, when no other can write: :func:`temporary_base`.
+
+    A polind kernel gets a :class:`KernelCacheLocator` there (keyed by every
+    kernel source), any other function (a plugin's) this one.
+    """
+
+    def __init__(self, py_func, py_file, cache_path):
+        self._py_file = py_file
+        self._lineno = py_func.__code__.co_firstlineno
+        self._cache_path = cache_path
+
+    def get_cache_path(self):
+        return self._cache_path
+
+    @classmethod
+    def from_function(cls, py_func, py_file):
+        if not os.path.exists(py_file):
+            return None
+        kind = KernelCacheLocator if _is_polind_source(py_file) else cls
+        return _temporary_locator(kind, py_func, py_file, config.CACHE_DIR or os.path.join(
+            os.path.dirname(py_file), "__pycache__"))
+
+
 def install() -> None:
-    """Put :class:`KernelCacheLocator` first among numba's cache locators (once)."""
+    """Put :class:`KernelCacheLocator` first among numba's cache locators and
+    :class:`TemporaryCacheLocator` last (once)."""
     implementation = getattr(caching, "CacheImpl", None) or caching._CacheImpl  # numba < 0.62
     classes = implementation._locator_classes
     if KernelCacheLocator not in classes:
         classes.insert(0, KernelCacheLocator)
+    if TemporaryCacheLocator not in classes:
+        classes.append(TemporaryCacheLocator)
