@@ -421,7 +421,8 @@ def simulate(model: FrictionModel, t, x=None, v=None, *, normal_load=None,
         A bad argument, naming it; a motion whose ``BYTES_PER_SAMPLE``
         per sample would pass the memory limit (:mod:`polind.resources`),
         before anything is allocated; forces that are not all finite
-        (:func:`check_finite_forces`, naming the model and the first sample).
+        (``polind.simulation.check_finite_forces``, naming the model and the first
+        sample).
 
     Examples
     --------

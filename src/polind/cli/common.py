@@ -89,7 +89,7 @@ def load_model(path):
     arrays) is built here too, so that a parameter that gives no valid model
     is blamed on the model file, not on a motion or data file read later; a
     model of one's own (a plugin) has its compiled functions checked
-    (:func:`polind.models.registry.check_compiled`).
+    (``polind.models.registry.check_compiled``).
     """
     import polind
     from polind.cli import check_interrupted

@@ -42,7 +42,7 @@ def register_model(cls, *, replace=False, check=True):
     be used as a decorator.
 
     Its ``parameters`` are checked first, whatever ``check`` says
-    (:func:`check_parameters`): an entry that is not a ``Param`` or ``Table``,
+    (``check_parameters``): an entry that is not a ``Param`` or ``Table``,
     an unknown ``kind`` or ``bound``, a repeated key or a default the entry
     refuses is an :class:`~polind.InputError` naming the class and the entry.
 
@@ -50,7 +50,8 @@ def register_model(cls, *, replace=False, check=True):
     now: its ``example_parameters()`` (when it defines them) build a model
     whose ``initial_variables()``, ``characteristic_scales()``,
     ``step_functions()`` and ``kernel_arrays()`` must give what the stepping
-    contract takes (its compiled functions returning numbers: :func:`check_compiled`), so that a wrong declaration (``step_functions()``
+    contract takes (its compiled functions returning numbers:
+    ``check_compiled``), so that a wrong declaration (``step_functions()``
     returning a tuple, say) is an :class:`~polind.InputError` naming the
     method here rather than a failure inside a run.  A class without example
     parameters is checked the same way when a model of it is first stepped.
