@@ -204,3 +204,48 @@ def test_a_continuation_that_stops_keeps_its_points_and_says_where():
     curve = caught.value.curve
     assert len(curve) == 5 and curve.omega[0] == 60.0 and curve.omega[-1] < 200.0
     assert isinstance(caught.value, InputError)
+
+
+def test_two_contacts_on_two_masses_are_the_time_integrations_steady_state():
+    """The condensation onto several contacts: a joint between the masses and one to the ground."""
+    s = polind.Structure(mass=[[1.0, 0.0], [0.0, 0.5]], stiffness=[[1e4, 0.0], [0.0, 2e3]],
+                         damping=[[20.0, 0.0], [0.0, 10.0]])
+    s.add_contact(jenkins(1e4, 1.0), dofs=(0, 1))
+    s.add_contact(jenkins(5e3, 0.5), dofs=(1,))
+    omega = 90.0
+    hb = polind.harmonic_balance(s, omega, force=[3.0, 0.0], harmonics=7)
+    period = 2 * np.pi / omega
+    steps = 1000
+    t = np.arange(80 * steps + 1) * (period / steps)
+    applied = np.zeros((t.size, 2))
+    applied[:, 0] = 3.0 * np.minimum(t / (20 * period), 1.0) * np.cos(omega * t)
+    res = polind.simulate_structure(s, t, force=applied)
+    tt = t[-steps - 1:-1]
+    for dof in (0, 1):
+        q = res.q[-steps - 1:-1, dof]
+        first = np.hypot(2 * np.mean(q * np.cos(omega * tt)), 2 * np.mean(q * np.sin(omega * tt)))
+        assert hb.amplitude(dof, harmonic=1) == pytest.approx(first, rel=1e-3)
+    # Both contacts slip (the loops are open), and the joint's mean force is zero.
+    assert np.abs(hb.contact_force[:, 2]).min() > 0.05
+    assert abs(hb.contact_force[0, 0]) < 1e-9
+
+
+def test_contacts_of_different_families_are_balanced_together():
+    """Harmonic balance steps each contact with its own kernel: an iwan4 joint and a LuGre
+    contact to the ground in one structure (which the time driver does not take yet)."""
+    s = polind.Structure(mass=[[1.0, 0.0], [0.0, 0.5]], stiffness=[[1e4, 0.0], [0.0, 0.0]],
+                         damping=[[10.0, 0.0], [0.0, 5.0]])
+    s.add_contact(model(type="iwan4", slip_force=1.0, stiffness=1e4, chi=-0.5, beta=0.1),
+                  dofs=(0, 1))
+    s.add_contact(model(type="lugre", bristle_stiffness=1e4, bristle_damping=10.0,
+                        coulomb_force=0.3, static_force=0.3, stribeck_velocity=0.1,
+                        stribeck_exponent=2.0, viscous_coefficient=0.0), dofs=(1,))
+    hb = polind.harmonic_balance(s, 80.0, force=[2.0, 0.0], harmonics=5)
+    assert hb.residual < 1e-6
+    # The balance holds for every coordinate's first harmonic (exact linear algebra).
+    M, K, C = s.mass, s.stiffness, s.damping
+    B = np.array([[1.0, -1.0], [0.0, 1.0]])
+    Q = hb.harmonics[:, 1] - 1j * hb.harmonics[:, 2]
+    F = hb.contact_force[:, 1] - 1j * hb.contact_force[:, 2]
+    balance = (K - 80.0 ** 2 * M + 80.0j * C) @ Q + B.T @ F - np.array([2.0, 0.0])
+    assert np.abs(balance).max() < 1e-6 * 2.0
