@@ -125,7 +125,7 @@ def frequency_response(structure, omega_range, *, force=None, static_force=None,
         different; the curve runs from the first to the last (downwards if
         the first is larger), through any turning points between.
     force, static_force : array_like
-        The applied force's harmonics [N], as in :func:`harmonic_balance`.
+        The applied force's harmonics [N], as in :func:`polind.harmonic_balance`.
     harmonics : int, default 7
         ``H``.
     samples : int, optional

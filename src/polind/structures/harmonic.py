@@ -511,8 +511,9 @@ def harmonic_balance(structure, omega, *, force=None, static_force=None, harmoni
     harmonics : int, default 7
         ``H``: the harmonics balanced.
     samples : int, optional
-        ``N >= 4H + 1`` samples per period (default :func:`default_samples`: 128 for
-        ``H <= 16``; with hysteretic contacts ``4H + 1`` errs by tenths of a per cent).
+        ``N >= 4H + 1`` samples per period (default
+        :func:`~polind.structures.harmonic.default_samples`: 128 for ``H <= 16``; with
+        hysteretic contacts ``4H + 1`` errs by tenths of a per cent).
     initial : HarmonicBalanceResult, optional
         A solution to start from (default: the stuck structure's response).
     tolerance : float, default 1e-10
