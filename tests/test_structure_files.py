@@ -165,13 +165,15 @@ BAD = {
     "an unknown force key": (_set(("structure", "run", "force", "phase"), 1.0),
                              ["'structure.run.force.phase'", "[structure.run.force]",
                               "offset, amplitude, frequency"]),
-    "frequency_response asked for": (_set(("structure", "run", "kind"), "frequency_response"),
-                                     ["'structure.run.kind'", "frequency_response",
-                                      "not available yet", "time"]),
+    "frequency_response with a time run's keys": (
+        _set(("structure", "run", "kind"), "frequency_response"),
+        ["'structure.run.duration'", "[structure.run]", "kind = 'frequency_response'",
+         "omega_range, force"]),
     "a backbone table": (_set(("structure", "run", "backbone"), {"amplitudes": [1.0]}),
-                         ["'structure.run.backbone'", "not available yet", "time"]),
+                         ["'structure.run.backbone'", "kind = 'backbone'"]),
     "an unknown kind": (_set(("structure", "run", "kind"), "modal"),
-                        ["'structure.run.kind'", "'time'", "'modal'"]),
+                        ["'structure.run.kind'", "'time'", "'frequency_response'",
+                         "'backbone'", "'modal'"]),
     "no duration": (_set(("structure", "run", "duration"), _DELETE),
                     ["'structure.run.duration'", "missing"]),
     "a negative time step": (_set(("structure", "run", "time_step"), -1e-4),
@@ -250,7 +252,8 @@ def test_the_plot_is_written_with_the_table(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("case", ["non-symmetric mass", "a contact model that fails validation",
-                                  "frequency_response asked for", "an unknown run key"])
+                                  "frequency_response with a time run's keys",
+                                  "an unknown run key"])
 def test_a_bad_file_exits_2_with_one_line_and_writes_nothing(tmp_path, capsys, case):
     change, fragments = BAD[case]
     doc = document()

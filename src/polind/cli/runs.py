@@ -88,22 +88,39 @@ def dynamics(model_path, system_path, output_path):
 @click.argument("structure_path", metavar="STRUCTURE.toml", type=file_path())
 @output_option
 @click.option("--plot", "plot_path", default=None, type=file_path(), metavar="PNG",
-              help="Also write a PNG: the coordinates against time, and each contact's "
-                   "friction force against its relative displacement (its hysteresis loop).")
+              help="Also write a PNG: for a time run, the coordinates against time and each "
+                   "contact's hysteresis loop; for a frequency_response, each coordinate's "
+                   "amplitude against the frequency (turning points marked); for a backbone, "
+                   "the frequency and the damping ratio against the modal amplitude.")
 def structure(structure_path, output_path, plot_path):
     """A structure: n coordinates (mass, stiffness, damping) with friction contacts.
 
     STRUCTURE.toml has [structure] (mass, stiffness, damping matrices),
     [[structure.contacts]] (model: a model file or an inline [model] table;
-    dofs: [i] or [i, j]) and [structure.run] (duration, time_step,
-    initial_position, initial_velocity, method, [structure.run.force]), as
-    the user guide's "Structures" describes.  Writes OUT.csv with the header
-    t,q_0..q_{n-1},dq_0..dq_{n-1},F_0..F_{m-1} (SI units, full float
-    precision; F_c is contact c's friction force, -F_c on its first
-    coordinate); a .parquet OUT is written as Parquet, - to standard output.
+    dofs: [i] or [i, j]) and [structure.run], whose kind says what to run,
+    as the user guide's "Structures" describes:
+
+    \b
+    kind = "time" (the default): duration, time_step, initial_position,
+      initial_velocity, method, [structure.run.force]. OUT.csv has
+      t,q_0..q_{n-1},dq_0..dq_{n-1},F_0..F_{m-1} (F_c: contact c's friction
+      force, -F_c on its first coordinate).
+    kind = "frequency_response" (harmonic balance and continuation):
+      omega_range [rad/s], force (each coordinate's cosine amplitude [N]),
+      harmonics, samples, max_points. OUT.csv has one row per point of the
+      curve: omega, amplitude_q_i (the largest |q_i - Q_0| over the period),
+      every coordinate's harmonics q_i_0, q_i_c1, q_i_s1, ... and each
+      contact's first-harmonic force amplitude F_c_1. A continuation that
+      stops early writes the points found, then exits with status 2.
+    kind = "backbone" (a nonlinear mode): amplitudes [m kg^0.5], mode,
+      harmonics, samples. OUT.csv has amplitude, frequency [rad/s],
+      damping_ratio and amplitude_q_i.
+
+    SI units, full float precision; a .parquet OUT is written as Parquet, -
+    to standard output.
     """
     from polind import io
-    from polind.structures import load_structure, plot_structure
+    from polind.structures import ContinuationError, load_structure
     from polind.structures.files import structure_files
 
     refuse_overwriting_inputs(structure_files(structure_path),
@@ -112,36 +129,36 @@ def structure(structure_path, output_path, plot_path):
         built, run = load_structure(structure_path)
         if run is None:
             raise InputError("no [structure.run] table; expected one with duration and "
-                             "time_step [s] (and optionally [structure.run.force])")
-    steps = len(run.times) - 1
-    with blame(structure_path), progress(total=steps, description="structure",
-                                         unit=" steps") as bar:
-        def advance(done, total):
-            bar.update(done - bar.n)
-
-        result = run.simulate(built, progress=advance)
-    n, m = result.q.shape[1], result.contact_forces.shape[1]
-    columns = {"t": result.t}
-    columns.update({f"q_{i}": result.q[:, i] for i in range(n)})
-    columns.update({f"dq_{i}": result.dq[:, i] for i in range(n)})
-    columns.update({f"F_{c}": result.contact_forces[:, c] for c in range(m)})
+                             "time_step [s] (and optionally [structure.run.force]), or a "
+                             "kind = 'frequency_response' or 'backbone' run")
+    stopped = None
+    with blame(structure_path), progress(description="structure",
+                                         unit=run.progress_unit) as bar:
+        try:
+            result = run.solve(built, progress=advancing(bar))
+        except ContinuationError as error:
+            # The points found are written, then the error ends the run with status 2.
+            stopped, result = error, error.curve
+    if stopped is not None and not len(result):
+        with blame(structure_path):
+            raise stopped
+    columns = run.columns(result)
     if plot_path is None:
         write_samples(output_path, columns)
     else:
         # The table and the figure appear together, or neither does.
-        driven = run.frequency > 0.0 and run.amplitude is not None and run.amplitude.any()
-        figure = plot_structure(result, built, None,
-                                last_cycle=1.0 / run.frequency if driven else None,
-                                title=f"{structure_path}: the response")
+        options = {"stopped": True} if stopped is not None else {}
+        figure = run.figure(result, built, source=os.fspath(structure_path), **options)
         io.write_together({output_path: _table_bytes(output_path, columns),
                            plot_path: figure})
     streamed = io.STDOUT in (os.fspath(output_path), os.fspath(plot_path or ""))
     files = [os.fspath(path) for path in (output_path, plot_path)
              if path is not None and os.fspath(path) != io.STDOUT]
-    short = f"; {result.unconverged_steps} steps short of the contacts' solver tolerance" \
-        if result.unconverged_steps else ""
-    click.echo(f"wrote {' and '.join(files) or '-'}: {len(result.t)} samples, {n} coordinates, "
-               f"{m} contact{'s' if m != 1 else ''}{short}", err=streamed)
+    written = f"wrote {' and '.join(files) or '-'}: {run.summary(result)}"
+    if stopped is not None:
+        with blame(structure_path):
+            raise InputError(f"{stopped} {written[0].upper()}{written[1:]}.")
+    click.echo(written, err=streamed)
 
 
 def _table_bytes(output_path, columns) -> bytes:

@@ -4,8 +4,11 @@
 the contacts; :func:`polind.simulate_structure` integrates it in time with the
 structure driver of :mod:`polind.kernels.structure`; :func:`polind.load_structure`
 reads a structure file (:ref:`formats-structure`) into a structure and its
-run (:class:`polind.structures.StructureRun`); :func:`polind.structures.plot_structure`
-draws a result; :func:`polind.structures.contact_period` is a contact's periodic
+run (:class:`polind.structures.StructureRun` in time,
+:class:`polind.structures.FrequencyResponseRun` or :class:`polind.structures.BackboneRun`
+by harmonic balance); :func:`polind.structures.plot_structure`,
+:func:`polind.structures.plot_frequency_response` and
+:func:`polind.structures.plot_backbone` draw their results; :func:`polind.structures.contact_period` is a contact's periodic
 steady state along one period of a motion (the periodic evaluation harmonic
 balance builds on, :mod:`polind.kernels.periodic`); :func:`polind.hysteresis_loop`
 gives the energy per cycle, secant stiffness and damping ratio of a record's last
@@ -22,9 +25,11 @@ from polind.structures.continuation import ContinuationError, FrequencyResponse,
 from polind.structures.modes import Backbone, backbone
 from polind.structures.periodic import ContactPeriod, contact_period
 from polind.structures.files import StructureRun, load_structure, structure_from_dict
+from polind.structures.frequency_files import BackboneRun, FrequencyResponseRun
 from polind.structures.loops import HysteresisLoop, hysteresis_loop
-from polind.structures.plot import plot_structure
+from polind.structures.plot import plot_backbone, plot_frequency_response, plot_structure
 
 __all__ = ["Backbone", "backbone", "ContinuationError", "FrequencyResponse", "frequency_response",
            "HarmonicBalanceResult", "harmonic_balance", "ContactPeriod", "contact_period", "HysteresisLoop", "hysteresis_loop", "Structure", "StructureResult", "StructureRun", "load_structure", "plot_structure",
-           "simulate_structure", "structure_from_dict"]
+           "simulate_structure", "structure_from_dict", "FrequencyResponseRun", "BackboneRun",
+           "plot_frequency_response", "plot_backbone"]

@@ -19,10 +19,20 @@ A structure file is TOML (or JSON by extension, read by
     amplitude = [20.0, 0.0]                  # N
     frequency = 50.0                         # Hz
 
-:func:`load_structure` reads one into a :class:`~polind.Structure` and a
-:class:`StructureRun`; :func:`structure_from_dict` builds them from the
-parsed document.  Every key is declared here (:data:`STRUCTURE_KEYS`,
-:data:`CONTACT_KEYS`, :data:`RUN_KEYS`, :data:`FORCE_KEYS`): an unknown key
+The run may instead be solved by harmonic balance: ``kind =
+"frequency_response"`` (``omega_range``, ``force``, ...) or ``kind =
+"backbone"`` (``amplitudes``, ``mode``, ...), read by
+:mod:`polind.structures.frequency_files` into a
+:class:`~polind.structures.FrequencyResponseRun` or a
+:class:`~polind.structures.BackboneRun`.
+
+:func:`load_structure` reads one into a :class:`~polind.Structure` and its
+run; :func:`structure_from_dict` builds them from the parsed document.  Every
+run has the methods ``polind structure`` calls whatever its kind: ``solve``
+(the run itself), ``columns`` (its table), ``figure`` (its PNG) and
+``summary`` (one line).  Every key is declared here (:data:`STRUCTURE_KEYS`,
+:data:`CONTACT_KEYS`, :data:`RUN_KEYS`, :data:`FORCE_KEYS`) or in
+:mod:`~polind.structures.frequency_files`: an unknown key
 is an :class:`~polind.InputError` naming it, its table and the known keys,
 and a bad value names its dotted key (``structure.contacts[1].dofs``), the
 file and what is expected.  The matrices are then checked by
@@ -48,15 +58,14 @@ __all__ = ["CONTACT_KEYS", "FORCE_KEYS", "RUN_KEYS", "RUN_KINDS", "STRUCTURE_KEY
 STRUCTURE_KEYS = ("mass", "stiffness", "damping", "contacts", "run")
 #: The keys of each ``[[structure.contacts]]`` entry.
 CONTACT_KEYS = ("model", "dofs")
-#: The keys of ``[structure.run]`` (a run of kind ``"time"``).
+#: The keys of ``[structure.run]`` for a run of kind ``"time"`` (the default).
 RUN_KEYS = ("kind", "duration", "time_step", "initial_position", "initial_velocity", "method",
             "force")
 #: The keys of ``[structure.run.force]``.
 FORCE_KEYS = ("offset", "amplitude", "frequency")
-#: The kinds of run a structure file may ask for today.
-RUN_KINDS = ("time",)
-#: Kinds of run planned but not available yet (harmonic balance): refused with a message.
-PLANNED_KINDS = ("frequency_response", "backbone")
+#: The kinds of run a structure file may ask for: in time, and by harmonic balance
+#: (:mod:`polind.structures.frequency_files`, whose keys are declared there).
+RUN_KINDS = ("time", "frequency_response", "backbone")
 #: The integration schemes of ``method`` (those of :func:`polind.simulate_structure`).
 METHODS = ("bdf2", "euler")
 
@@ -83,7 +92,7 @@ class StructureRun:
     frequency : float
         [Hz].
     kind : str
-        ``"time"``, the one kind available today.
+        ``"time"``.
 
     Examples
     --------
@@ -119,6 +128,9 @@ class StructureRun:
         amplitude = np.zeros(1) if self.amplitude is None else self.amplitude
         return offset + amplitude * np.sin(2.0 * np.pi * self.frequency * t)
 
+    #: What the progress of :meth:`solve` counts.
+    progress_unit = " steps"
+
     def simulate(self, structure, *, progress=None):
         """Run it: :func:`polind.simulate_structure` of ``structure`` over :attr:`times`."""
         from polind.structures.core import simulate_structure
@@ -129,6 +141,37 @@ class StructureRun:
                                   initial_position=self.initial_position,
                                   initial_velocity=self.initial_velocity, method=self.method,
                                   progress=progress)
+
+    def solve(self, structure, *, progress=None):
+        """Run it (:meth:`simulate`): the name every kind of run shares."""
+        return self.simulate(structure, progress=progress)
+
+    def columns(self, result) -> dict:
+        """The table of a result: ``t, q_0..q_{n-1}, dq_0..dq_{n-1}, F_0..F_{m-1}``."""
+        n, m = result.q.shape[1], result.contact_forces.shape[1]
+        columns = {"t": result.t}
+        columns.update({f"q_{i}": result.q[:, i] for i in range(n)})
+        columns.update({f"dq_{i}": result.dq[:, i] for i in range(n)})
+        columns.update({f"F_{c}": result.contact_forces[:, c] for c in range(m)})
+        return columns
+
+    def figure(self, result, structure, *, source=None) -> bytes:
+        """The PNG of a result (:func:`polind.structures.plot_structure`): a driven run's
+        loops are drawn bold over their last period."""
+        from polind.structures.plot import plot_structure
+
+        driven = self.frequency > 0.0 and self.amplitude is not None and self.amplitude.any()
+        return plot_structure(result, structure, None,
+                              last_cycle=1.0 / self.frequency if driven else None,
+                              title=(f"{source}: " if source else "") + "the response")
+
+    def summary(self, result) -> str:
+        """One line: the samples, coordinates and contacts, and any step short of tolerance."""
+        n, m = result.q.shape[1], result.contact_forces.shape[1]
+        short = f"; {result.unconverged_steps} steps short of the contacts' solver " \
+            "tolerance" if result.unconverged_steps else ""
+        return (f"{len(result.t)} samples, {n} coordinates, {m} contact"
+                f"{'s' if m != 1 else ''}{short}")
 
 
 # --- checks of single values ------------------------------------------------------------
@@ -151,8 +194,12 @@ def _table(key, value):
     return value
 
 
-def _number(key, value, bound="any", index=None):
-    """A finite float (a positive one for ``bound="positive"``)."""
+def key_number(key, value, bound="any", index=None):
+    """The value of ``key``: a finite float (a positive one for ``bound="positive"``).
+
+    An :class:`~polind.InputError` naming the dotted key otherwise (this module's
+    and :mod:`polind.structures.frequency_files`' message).
+    """
     where = "" if index is None else f" at index {index}"
     expected = {"positive": "a positive number", "nonnegative": "a non-negative number",
                 "any": "a finite number"}[bound]
@@ -173,17 +220,17 @@ def _count(count, noun):
     return f"{count} {noun}{'' if count == 1 else 's'}"
 
 
-def _vector(key, value, n):
-    """``n`` finite numbers (a number for ``n = 1``)."""
+def key_vector(key, value, n):
+    """The value of ``key``: ``n`` finite numbers, one per coordinate (a number for ``n = 1``)."""
     expected = f"a list of {n} numbers, one per coordinate" + \
         (" (or a number)" if n == 1 else "")
     if n == 1 and not isinstance(value, list):
-        return np.array([_number(key, value)])
+        return np.array([key_number(key, value)])
     if not isinstance(value, list):
         _fail(key, expected, value)
     if len(value) != n:
         raise InputError(f"key '{key}': expected {expected}; got {_count(len(value), 'number')}")
-    return np.array([_number(key, item, index=i) for i, item in enumerate(value)])
+    return np.array([key_number(key, item, index=i) for i, item in enumerate(value)])
 
 
 def _matrix(key, value, n=None):
@@ -195,7 +242,7 @@ def _matrix(key, value, n=None):
         expected += ", the shape of 'structure.mass'"
     if not isinstance(value, list):
         if n in (None, 1) and not isinstance(value, (dict, str)):
-            return np.array([[_number(key, value)]])
+            return np.array([[key_number(key, value)]])
         _fail(key, expected + (" or a number" if n in (None, 1) else ""), value)
     rows = len(value)
     if rows == 0 or (n is not None and rows != n):
@@ -206,7 +253,7 @@ def _matrix(key, value, n=None):
             got = _count(len(row), "number") if isinstance(row, list) else describe(row)
             raise InputError(f"key '{key}': expected {expected}; got {got} in row {i}")
         for j, item in enumerate(row):
-            matrix[i, j] = _number(key, item, index=f"[{i}, {j}]")
+            matrix[i, j] = key_number(key, item, index=f"[{i}, {j}]")
     return matrix
 
 
@@ -273,24 +320,27 @@ def _contact_kernel(key, model):
 
 
 def _run(table, n, m):
-    """The :class:`StructureRun` of a ``[structure.run]`` table."""
-    for planned in PLANNED_KINDS:
-        if planned in table:
-            raise _planned(f"structure.run.{planned}", planned)
+    """The run of a ``[structure.run]`` table: a :class:`StructureRun`, or by harmonic balance."""
+    from polind.structures.frequency_files import HARMONIC_KINDS, harmonic_run
+
     kind = table.get("kind", "time")
-    if kind in PLANNED_KINDS:
-        raise _planned("structure.run.kind", kind)
-    if kind not in RUN_KINDS:
-        _fail("structure.run.kind", " or ".join(f"'{k}'" for k in RUN_KINDS)
-              + " (harmonic balance, 'frequency_response' and 'backbone', is not available "
-                "yet)", kind)
+    if not isinstance(kind, str) or kind not in RUN_KINDS:
+        _fail("structure.run.kind", ", ".join(f"'{k}'" for k in RUN_KINDS[:-1])
+              + f" or '{RUN_KINDS[-1]}'", kind)
+    if kind in HARMONIC_KINDS:
+        return harmonic_run(table, kind, n, m)
+    for other in HARMONIC_KINDS:
+        if other in table:
+            raise InputError(f"unknown key 'structure.run.{other}' in [structure.run]; a "
+                             f"'{other}' run is kind = '{other}' with its keys in "
+                             f"[structure.run] itself")
     _known(table, RUN_KEYS, "structure.run", "structure.run.")
     for key in ("duration", "time_step"):
         if key not in table:
             raise InputError(f"missing key 'structure.run.{key}' in [structure.run]; a time "
                              f"run needs duration and time_step [s]")
-    duration = _number("structure.run.duration", table["duration"], "positive")
-    step = _number("structure.run.time_step", table["time_step"], "positive")
+    duration = key_number("structure.run.duration", table["duration"], "positive")
+    step = key_number("structure.run.time_step", table["time_step"], "positive")
     if step > duration:
         raise InputError(f"key 'structure.run.time_step': expected at most the duration "
                          f"({duration!r} s); got {step!r}")
@@ -300,18 +350,18 @@ def _run(table, n, m):
     values = {}
     for key in ("initial_position", "initial_velocity"):
         if key in table:
-            values[key] = _vector(f"structure.run.{key}", table[key], n)
+            values[key] = key_vector(f"structure.run.{key}", table[key], n)
     if "force" in table:
         force = _table("structure.run.force", table["force"])
         _known(force, FORCE_KEYS, "structure.run.force", "structure.run.force.")
         for key in ("offset", "amplitude"):
             if key in force:
-                values[key] = _vector(f"structure.run.force.{key}", force[key], n)
+                values[key] = key_vector(f"structure.run.force.{key}", force[key], n)
         if "amplitude" in force and "frequency" not in force:
             raise InputError("missing key 'structure.run.force.frequency' in "
                              "[structure.run.force]; an amplitude needs its frequency [Hz]")
         if "frequency" in force:
-            values["frequency"] = _number("structure.run.force.frequency", force["frequency"],
+            values["frequency"] = key_number("structure.run.force.frequency", force["frequency"],
                                           "nonnegative")
     run = StructureRun(duration=duration, time_step=step, method=method, **values)
     from polind.resources import check_memory
@@ -320,12 +370,6 @@ def _run(table, n, m):
     check_memory(samples * (8 + _BYTES_PER_COORDINATE * n + _BYTES_PER_CONTACT * m),
                  f"The structure's duration / time_step ({samples:.3g} samples)")
     return run
-
-
-def _planned(key, kind):
-    return InputError(f"key '{key}': a '{kind}' run (harmonic balance) is not available yet; "
-                      f"expected a time run (kind = 'time', the default: duration, time_step, "
-                      f"[structure.run.force])")
 
 
 def structure_from_dict(document, base_dir="."):
@@ -342,8 +386,11 @@ def structure_from_dict(document, base_dir="."):
 
     Returns
     -------
-    (Structure, StructureRun or None)
-        The run is None without a ``[structure.run]`` table.
+    (Structure, run or None)
+        The run (a :class:`~polind.structures.StructureRun`, a
+        :class:`~polind.structures.FrequencyResponseRun` or a
+        :class:`~polind.structures.BackboneRun`, by its
+        ``kind``) is None without a ``[structure.run]`` table.
 
     Raises
     ------
@@ -440,9 +487,12 @@ def load_structure(path):
 
     Returns
     -------
-    (Structure, StructureRun or None)
-        The structure, and its run (None without ``[structure.run]``):
-        ``run.simulate(structure)`` runs it.
+    (Structure, run or None)
+        The structure, and its run (None without ``[structure.run]``): a
+        :class:`~polind.structures.StructureRun`, a
+        :class:`~polind.structures.FrequencyResponseRun` or a
+        :class:`~polind.structures.BackboneRun`;
+        ``run.solve(structure)`` runs it.
 
     Raises
     ------
