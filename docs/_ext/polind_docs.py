@@ -294,10 +294,9 @@ class StructureKeys(SphinxDirective):
             "against the ground. Coordinates from 0 to :math:`n - 1`."),
         ("structure.run", "kind"): (
             "—", '``"time"``',
-            'The kind of run: ``"time"``, the one available. ``"frequency_response"`` and '
-            '``"backbone"`` (harmonic balance) are not available yet and are refused, '
-            "as are ``[structure.run.frequency_response]`` and "
-            "``[structure.run.backbone]`` tables."),
+            'The kind of run: ``"time"`` (the keys below), ``"frequency_response"`` or '
+            '``"backbone"`` (harmonic balance: their keys follow, in the same '
+            "``[structure.run]`` table). A key of another kind is refused."),
         ("structure.run", "duration"): ("s", "required", "Length of the run, positive."),
         ("structure.run", "time_step"): (
             "s", "required",
@@ -325,11 +324,59 @@ class StructureKeys(SphinxDirective):
             "Frequency of the sine, one for every coordinate, non-negative."),
     }
 
+    #: The keys of the harmonic-balance kinds (polind.structures.frequency_files), by kind.
+    HARMONIC_WHAT = {
+        ("frequency_response", "omega_range"): (
+            "rad/s", "required",
+            "``[first, last]``: the fundamental frequencies the curve runs between "
+            "(downwards if the first is larger), positive and different; the continuation "
+            "follows the curve through its turning points (:func:`polind.frequency_response`)."),
+        ("frequency_response", "force"): (
+            "N", "required",
+            "Each coordinate's force amplitude, :math:`f_i(t) = \\text{force}_i \\cos "
+            "\\omega t`: :math:`n` numbers (a number for one coordinate), not all zero."),
+        ("frequency_response", "harmonics"): (
+            "—", "7", "The harmonics :math:`H` balanced, a positive integer."),
+        ("frequency_response", "samples"): (
+            "—", "128 (:math:`H \\le 16`)",
+            "Samples per period of the contacts' forces (alternating frequency–time), "
+            "an integer of at least :math:`4H + 1`; by default the larger of 128 and "
+            ":math:`8H` rounded up to a power of two."),
+        ("frequency_response", "max_points"): (
+            "—", "2000",
+            "The most points of the curve, a positive integer. A curve that needs more "
+            "stops there: the points found are written and the command exits with "
+            "status 2."),
+        ("backbone", "amplitudes"): (
+            "m kg^0.5", "required",
+            "The modal amplitudes :math:`a` (the first harmonic's "
+            ":math:`\\sqrt{Q^T M Q}`), a list of positive numbers, solved in increasing "
+            "order (:func:`polind.backbone`)."),
+        ("backbone", "mode"): (
+            "—", "0",
+            "Which linear mode (contacts stuck), by increasing frequency: 0 to "
+            ":math:`n - 1`."),
+        ("backbone", "harmonics"): (
+            "—", "7", "The harmonics :math:`H` balanced, a positive integer."),
+        ("backbone", "samples"): (
+            "—", "128 (:math:`H \\le 16`)",
+            "Samples per period, an integer of at least :math:`4H + 1`."),
+    }
+
     def run(self):
-        from polind.structures import files
+        from polind.structures import files, frequency_files
 
         source, line = self.get_source_info()
         rows = []
+
+        def described(table, key, what):
+            if what is None:
+                logger.warning(f"the structure file key '{table}.{key}' has no "
+                               f"description in docs/_ext/polind_docs.py",
+                               location=(source, line))
+                return ("", "", "")
+            return what
+
         for table, keys in (("structure", files.STRUCTURE_KEYS),
                             ("structure.contacts", files.CONTACT_KEYS),
                             ("structure.run", files.RUN_KEYS),
@@ -337,14 +384,19 @@ class StructureKeys(SphinxDirective):
             where = "[[structure.contacts]]" if table == "structure.contacts" \
                 else f"[{table}]"
             for key in keys:
-                described = self.WHAT.get((table, key))
-                if described is None:
-                    logger.warning(f"the structure file key '{table}.{key}' has no "
-                                   f"description in docs/_ext/polind_docs.py",
-                                   location=(source, line))
-                    described = ("", "", "")
-                unit, default, what = described
-                rows.append([f"``{key}`` in ``{where}``", what, unit, default])
+                unit, default, what = described(table, key, self.WHAT.get((table, key)))
+                label = f"``{key}`` in ``{where}``"
+                if table.startswith("structure.run") and key != "kind":
+                    label += ', kind ``"time"``'
+                rows.append([label, what, unit, default])
+        for kind, keys in frequency_files.HARMONIC_KINDS.items():
+            for key in keys:
+                if key == "kind":
+                    continue
+                unit, default, what = described(f"structure.run ({kind})", key,
+                                                self.HARMONIC_WHAT.get((kind, key)))
+                rows.append([f"``{key}`` in ``[structure.run]``, kind ``\"{kind}\"``", what,
+                             unit, default])
         return _parse(self, list_table(["key", "what it is", "unit", "default"], rows,
                                        widths=[26, 52, 8, 14]))
 
