@@ -406,7 +406,7 @@ def read_record(path, require=("t",), one_of=_MOTION, optional=("F", "normal_loa
     -----
     In this order: the columns are read (quoted numbers, a byte-order mark,
     ``\\r\\n`` line ends, blank lines and the NUL padding of a
-    preallocated file are read as :mod:`polind.io.tables` reads them),
+    preallocated file are read as ``polind.io.tables`` reads them),
     converted to SI (pint) and multiplied by their ``sign``, the samples
     whose times lie in ``window`` kept, and the first kept sample of each
     ``zero`` column subtracted; every value of the record is then finite.

@@ -4,12 +4,12 @@
 its first bytes or its metadata, without reading it all (and without opening
 a pipe, whose data would be lost); :func:`check_table_memory` refuses, with an
 :class:`~polind.errors.InputError` naming the file, a table whose reading and
-use would pass :func:`polind.resources.memory_limit`.  :func:`read_header`
+use would pass :func:`polind.resources.memory_limit`.  ``read_header``
 finds a CSV file's header in its first bytes (:func:`header_line`), for the
 sizes here and for the fast reader of :mod:`polind.io.tables`, and
 :func:`guess_delimiter` its field separator.  A row may be of any length,
 and a file may end in the NUL padding of a preallocated file
-(:func:`polind.io.text.padding_start`): neither is a row.
+(``polind.io.text.padding_start``): neither is a row.
 """
 
 from __future__ import annotations
@@ -91,7 +91,7 @@ READ_BYTES_PER_NUMBER = 24
 def read_header(stream, end: int):
     """``(prefix, header)``: a binary stream's first bytes and :func:`header_line` of them.
 
-    ``end`` is where the file's data end (:func:`polind.io.text.padding_start`).
+    ``end`` is where the file's data end (``polind.io.text.padding_start``).
     The prefix is the first :data:`HEADER_BYTES`, or more, doubling, until it
     holds the whole header (a wide file's header may be longer), up to
     :data:`MAX_HEADER_BYTES`; it never reaches past ``end``.  ``header`` is
@@ -109,7 +109,7 @@ def read_header(stream, end: int):
     return prefix, header
 
 
-#: The most of a file's start :func:`read_header` reads to find its header [bytes].
+#: The most of a file's start ``read_header`` reads to find its header [bytes].
 MAX_HEADER_BYTES = 1 << 24
 
 
@@ -118,14 +118,14 @@ def table_size(path) -> tuple[int, int, bool]:
 
     A Parquet file's metadata gives them exactly.  A CSV file's columns are
     those of its header, and its data rows are counted in a file whose data
-    lie in its first bytes (:func:`read_header`); a bigger one's are its size
+    lie in its first bytes (``read_header``); a bigger one's are its size
     over the shortest mean length of the rows in its first bytes and in
     ``SAMPLES`` stretches spread over the rest of it (``exact`` False), so
     that long rows at its start do not hide short ones after.  A stretch
     holds a few rows however long they are; where none holds a whole row,
     the shortest a row can be (a digit and a delimiter a column) sizes it.
     The NUL padding a preallocated file ends in is no rows
-    (:func:`polind.io.text.padding_start`).  A file that cannot be read
+    (``polind.io.text.padding_start``).  A file that cannot be read
     gives ``(0, 0, True)``: its reader names the problem.
     """
     name = os.fspath(path)

@@ -91,7 +91,7 @@ class Results:
     written and lets go of the lock.  CSV rows are appended to the file as
     they come (a row per line, in the order runs finish).  A Parquet file is
     rewritten whole, atomically, by a thread of its own, about a second after
-    a row was added (whether or not more rows come; see :meth:`_wait`), and at
+    a row was added (whether or not more rows come; see ``_wait``), and at
     the end, its rows sorted by run, with the sweep's record in its metadata:
     a ``kill -9`` loses the rows of the last two seconds at most.
     """
@@ -172,7 +172,7 @@ class Results:
         return max(_FLUSH_SECONDS, min(10.0 * cost, _MOST_SECONDS_LOST - cost))
 
     def _write_in_time(self):
-        """The Parquet writer's thread: each added row is written within :meth:`_wait`."""
+        """The Parquet writer's thread: each added row is written within ``_wait``."""
         while True:
             with self._lock:
                 if self._closing:
