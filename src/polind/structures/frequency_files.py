@@ -189,16 +189,14 @@ class BackboneRun:
     def solve(self, structure, *, progress=None):
         """Run it: :func:`polind.backbone` of ``structure``.
 
-        ``progress(done, total)`` is called once, at the end (the backbone
-        reports no progress of its own).
+        ``progress(done, total)`` is called after each amplitude.
         """
         from polind.structures.modes import backbone
 
-        result = backbone(structure, self.amplitudes, mode=self.mode, harmonics=self.harmonics,
-                          samples=self.samples)
-        if progress is not None:
-            progress(len(result.amplitude), len(result.amplitude))
-        return result
+        total = len(self.amplitudes)
+        advance = None if progress is None else (lambda _, count: progress(count, total))
+        return backbone(structure, self.amplitudes, mode=self.mode, harmonics=self.harmonics,
+                        samples=self.samples, progress=advance)
 
     def columns(self, result) -> dict:
         """The table of a backbone: ``amplitude, frequency, damping_ratio, amplitude_q_i``.

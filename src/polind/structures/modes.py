@@ -136,7 +136,7 @@ class _ModeProblem:
 
 
 def backbone(structure, amplitudes, *, mode=0, harmonics=7, samples=None,
-             tolerance=1e-10) -> Backbone:
+             tolerance=1e-10, progress=None) -> Backbone:
     """Amplitude-dependent frequency and damping of a mode (EPMC, :ref:`guide-frequency-domain`).
 
     Parameters
@@ -154,6 +154,8 @@ def backbone(structure, amplitudes, *, mode=0, harmonics=7, samples=None,
         ``N >= 4H + 1`` samples per period (default 128 for ``H <= 16``).
     tolerance : float, default 1e-10
         The solver's relative tolerance.
+    progress : callable, optional
+        Called as ``progress(amplitude, count)`` after each amplitude.
 
     Returns
     -------
@@ -228,6 +230,8 @@ def backbone(structure, amplitudes, *, mode=0, harmonics=7, samples=None,
                                   rcond=None)[0]
         omega, xi = y[equations.size] * w0, y[equations.size + 1] * w0
         found.append((target, omega, xi / (2 * omega), Q, forces))
+        if progress is not None:
+            progress(float(target), len(found))
     return Backbone(amplitude=np.array([f[0] for f in found]),
                     frequency=np.array([f[1] for f in found]),
                     damping_ratio=np.array([f[2] for f in found]),
