@@ -39,6 +39,10 @@ from polind.validation import check_number
 __all__ = ["ContinuationError", "FrequencyResponse", "frequency_response"]
 
 
+class _Rejected(Exception):
+    """A trial point the continuation cannot evaluate (omega <= 0)."""
+
+
 class ContinuationError(InputError):
     """A continuation that stopped before the end of its range; ``curve`` holds the points found."""
 
@@ -197,6 +201,8 @@ def frequency_response(structure, omega_range, *, force=None, static_force=None,
 
     def augmented_jacobian(z, differences=False):
         xv, w = scaled(z)
+        if not w > 0.0:
+            raise _Rejected
         r, J, _ = problem.residual(xv, w, applied, differences=differences)
         dw = 1e-7 * max(w, omega_scale)
         r2, _ = problem.residual(xv, w + dw, applied, jacobian=False)
@@ -223,12 +229,29 @@ def frequency_response(structure, omega_range, *, force=None, static_force=None,
                     r, A = augmented_jacobian(y, differences)
                     return (np.append(r, tau @ (y - predictor)), np.vstack([A, tau]))
 
-                solution = scipy.optimize.root(corrector, predictor, jac=True, method="hybr",
-                                               options={"xtol": tolerance,
-                                                        "maxfev": 200 if differences else 60})
+                try:
+                    solution = scipy.optimize.root(corrector, predictor, jac=True,
+                                                   method="hybr",
+                                                   options={"xtol": tolerance,
+                                                            "maxfev": 200 if differences else 60})
+                except (_Rejected, InputError):
+                    # A trial at omega <= 0, or where a contact does not settle: a failed step.
+                    solution = None
+                    continue
                 y = solution.x
                 if solution.success:
                     break
+            if solution is None:
+                error = np.inf
+                ds *= 0.5
+                if ds < smallest:
+                    curve = _curve(points, problem.evaluations)
+                    raise ContinuationError(
+                        f"The continuation of {owner} stopped at omega = "
+                        f"{float(points[-1].omega)!r} rad/s: the next step left the positive "
+                        f"frequencies or a contact's periodic state at the smallest step "
+                        f"length. The {len(points)} points found are kept.", curve)
+                continue
             xv, w = scaled(y)
             residual, _ = problem.residual(xv, w, applied, jacobian=False)
             error = float(np.abs(residual).max()) / max(float(np.abs(xv).max()), 1e-300)

@@ -92,6 +92,9 @@ class _ModeProblem:
         I = np.eye(2 * H)
         self.project = [np.kron(problem.B[c][None, :], I) for c in range(problem.m)]
         self.M = problem.structure.mass
+        # The force balance is scaled by the mode's stiffness, so that its residual is
+        # relative however stiff or heavy the structure is.
+        self.stiffness = w0 ** 2 * float(np.abs(self.M).max())
 
     def linear(self, omega, xi):
         s, H = self.p.structure, self.p.harmonics
@@ -111,14 +114,14 @@ class _ModeProblem:
         Qc1, Qs1 = Q.reshape(n, 2 * H)[:, 0], Q.reshape(n, 2 * H)[:, 1]
         amplitude = (Qc1 @ self.M @ Qc1 + Qs1 @ self.M @ Qs1 - a * a) / (a * a)
         phase = self.phi @ self.M @ Qs1 / a
-        residual = np.concatenate([r / a, [amplitude, phase]])
+        residual = np.concatenate([r / (a * self.stiffness), [amplitude, phase]])
         if not jacobian:
             return residual, forces
         J = L.copy()
         for c, P in enumerate(self.project):
             J += P.T @ jacobians[c] @ P
         full = np.zeros((self.size + 2, self.size + 2))
-        full[:self.size, :self.size] = J                       # d(r/a)/d(Q/a)
+        full[:self.size, :self.size] = J / self.stiffness     # d(r/a)/d(Q/a), scaled
         for column, (dw, dxi) in ((self.size, (1e-7, 0.0)), (self.size + 1, (0.0, 1e-7))):
             shifted = y.copy()
             shifted[self.size] += dw
@@ -218,9 +221,9 @@ def backbone(structure, amplitudes, *, mode=0, harmonics=7, samples=None,
                 continue
             step *= 0.5
             if step < 1e-3 * max(target - previous, target * 1e-3) or trial == a:
-                raise InputError(f"The backbone of {owner} did not converge at the modal "
-                                 f"amplitude {trial!r} (residual {error:.3g}, frequency "
-                                 f"{y[equations.size] * w0!r} rad/s); the "
+                raise InputError(f"The backbone did not converge at the modal amplitude "
+                                 f"{float(trial)!r} (relative residual {error:.3g}, frequency "
+                                 f"{float(y[equations.size] * w0)!r} rad/s); the "
                                  f"{len(found)} amplitudes before it converged.")
         previous = target
         residual, forces = equations.equations(y, target, jacobian=False)
