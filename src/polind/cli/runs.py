@@ -108,7 +108,7 @@ def structure(structure_path, output_path, plot_path):
     kind = "frequency_response" (harmonic balance and continuation):
       omega_range [rad/s], force (each coordinate's cosine amplitude [N]),
       harmonics, samples, max_points. OUT.csv has one row per point of the
-      curve: omega, amplitude_q_i (the largest |q_i - Q_0| over the period),
+      curve: omega, amplitude_q_i (the largest abs(q_i - Q_0) over the period),
       every coordinate's harmonics q_i_0, q_i_c1, q_i_s1, ... and each
       contact's first-harmonic force amplitude F_c_1. A continuation that
       stops early writes the points found, then exits with status 2.
