@@ -22,8 +22,10 @@ def surface(model_path, as_json):
     normal_load, elements (a list of {stiffness, breakaway_force,
     asperities, interference}) and validity ({plasticity_index,
     plastic_contact_share, plastic_load_share, mean_real_pressure,
-    peak_asperity_pressure, unmatched_load}).  An elastic (Hertzian) contact
-    with a peak asperity pressure above 10 GPa warns.
+    peak_asperity_pressure, unmatched_load}); with tangential = "mindlin"
+    also tangential, microslip_elements and each element's
+    slip_displacement u*.  An elastic (Hertzian) contact with a peak
+    asperity pressure above 10 GPa warns.
     """
     import json
 
@@ -39,24 +41,33 @@ def surface(model_path, as_json):
     # Sampled or measured summits: the standard deviation of their heights.
     sigma = surface.height_std if surface.kind == "statistical" else surface.height_statistics[1]
     kind = params["discretisation"]["summation"]
+    # Summits all at one height (one sphere, or a flat-topped sample) have no spread.
+    spread = (f"(d / sigma_a = {summary['separation'] / sigma:.4f})" if sigma > 0.0
+              else "(every summit at one height: sigma_a = 0)")
+    microslip = summary.get("microslip_elements")
     lines = [
         f"Pol-Ind contact of {model_path} ({kind} summation, {len(summary['elements'])} elements)",
         f"  normal load    {summary['normal_load']:.6g} N",
-        f"  separation     {summary['separation']:.6g} m   (d / sigma_a = "
-        f"{summary['separation'] / sigma:.4f})",
+        f"  separation     {summary['separation']:.6g} m   {spread}",
         f"  contacts       {summary['contacts']:.6g} asperities",
         f"  real area      {summary['real_area']:.6g} m^2",
         f"  break-away     {sum(e['breakaway_force'] for e in summary['elements']):.6g} N "
         f"(mu_s N = {params['static_coefficient'] * summary['normal_load']:.6g} N)",
+        *([] if microslip is None else [
+            f"  tangential     mindlin: {microslip} microslip sub-elements per element "
+            f"({microslip * len(summary['elements'])} in all); u* = 3 mu_s P / (16 G* a) "
+            f"per element below"]),
         "",
         *_validity_lines(summary["validity"], surface.plasticity),
         "",
         f"  {'element':>7}  {'stiffness [N/m]':>16}  {'breakaway [N]':>14}  "
-        f"{'asperities':>11}  {'interference [m]':>17}",
+        f"{'asperities':>11}  {'interference [m]':>17}" + ("" if microslip is None else
+                                                           f"  {'u* [m]':>12}"),
     ]
     for j, element in enumerate(summary["elements"]):
         lines.append(f"  {j:>7}  {element['stiffness']:>16.6g}  {element['breakaway_force']:>14.6g}"
-                     f"  {element['asperities']:>11.6g}  {element['interference']:>17.6g}")
+                     f"  {element['asperities']:>11.6g}  {element['interference']:>17.6g}"
+                     + ("" if microslip is None else f"  {element['slip_displacement']:>12.6g}"))
     click.echo("\n".join(lines))
 
 

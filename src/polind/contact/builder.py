@@ -20,6 +20,7 @@ from polind.contact._checks import positive_number
 from polind.contact.ball import ball_contact_area
 from polind.contact.elements import ElementTable, element_table
 from polind.contact.materials import effective_moduli
+from polind.contact.microslip import microslip_of, microslip_table
 from polind.contact.plasticity import HARDNESS_PER_YIELD_STRENGTH, Plasticity
 from polind.contact.separation import RELATIVE_TOLERANCE, solve_separation
 from polind.contact.surface import DirectSurface, StatisticalSurface
@@ -55,7 +56,9 @@ class Contact:
     separation : float
         Separation ``d`` [m] with ``N(d) = N_app`` (to 1e-10 relative).
     elements : ElementTable
-        The modified Maxwell-slip elements at ``d``.
+        The modified Maxwell-slip elements at ``d``: with
+        ``tangential = "mindlin"`` their microslip sub-elements, the elements
+        themselves the table's ``parent`` (:ref:`guide-pol-ind-microslip`).
     unmatched_load : float
         ``N_app - N(d)`` [N] where the separation cannot meet the load
         balance (a direct sum of elastic-plastic summits whose load jumps
@@ -98,16 +101,27 @@ class Contact:
         Keys ``separation`` [m], ``contacts`` [-], ``real_area`` [m^2],
         ``normal_load`` [N], ``elements``, a list of
         ``{stiffness [N/m], breakaway_force [N], asperities [-], interference [m]}``,
-        and ``validity`` (:meth:`validity`).
+        and ``validity`` (:meth:`validity`).  With microslip sub-elements
+        (:ref:`guide-pol-ind-microslip`) also ``tangential`` (``"mindlin"``)
+        and ``microslip_elements`` (sub-elements per element), and each
+        element's ``slip_displacement`` ``u*`` [m]; ``elements`` lists the
+        elements, not their sub-elements.
         """
-        return {
+        table = self.elements
+        summary = {
             "separation": float(self.separation),
             "contacts": self.contacts,
             "real_area": self.real_area,
             "normal_load": float(self.normal_load),
-            "elements": self.elements.records(),
+            "elements": (table if table.parent is None else table.parent).records(),
             "validity": self.validity(),
         }
+        if table.parent is not None:
+            summary["tangential"] = "mindlin"
+            summary["microslip_elements"] = table.microslip_elements
+            for record, slip in zip(summary["elements"], table.slip_displacement.tolist()):
+                record["slip_displacement"] = slip
+        return summary
 
 
 def _table(params: Mapping, key: str) -> dict:
@@ -153,7 +167,8 @@ def build_contact(params: Mapping, base_dir=None, *, surface=None) -> Contact:
         optionally ``hardness`` [Pa] or ``yield_strength`` [Pa]},
         ``discretisation`` = {``summation`` ("statistical" or "direct"),
         ``elements`` (bins, statistical), ``seed`` (direct, sampled),
-        ``heights_file`` (direct, measured)}, as a validated pol-ind model
+        ``heights_file`` (direct, measured), optionally ``tangential``
+        ("elastic-slip" or "mindlin") and ``microslip_elements``}, as a validated pol-ind model
         has them (``PolInd(...).params``; :ref:`formats-model-files`).  A
         missing key is an error naming it; other keys of the model table are
         ignored (they are not the contact's).
@@ -193,6 +208,7 @@ def build_contact(params: Mapping, base_dir=None, *, surface=None) -> Contact:
     if surface is None:
         surface = build_surface(params, base_dir)
     discretisation = _table(params, "discretisation")
+    microslip = microslip_of(discretisation)
     separation = solve_separation(surface, normal_load)
     elements = element_table(
         surface, separation, static_coefficient, discretisation["elements"], normal_load=normal_load
@@ -203,6 +219,9 @@ def build_contact(params: Mapping, base_dir=None, *, surface=None) -> Contact:
         raise InputError(f"The 'normal_load' of pol-ind leaves no summit in contact at the "
                          f"separation {separation!r} m. Got {normal_load!r} N; expected a load "
                          f"that some asperity carries.")
+    if microslip is not None:
+        # Cattaneo-Mindlin asperities: each element becomes its microslip sub-elements.
+        elements = microslip_table(elements, microslip)
     unmatched = normal_load - float(surface.normal_load(separation))
     if abs(unmatched) <= RELATIVE_TOLERANCE * normal_load:
         unmatched = 0.0

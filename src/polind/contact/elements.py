@@ -142,6 +142,13 @@ class ElementTable:
     radii : numpy.ndarray or None
         Elastic-plastic elements: each element's summit radius ``R_j`` [m]
         (``None`` for Hertzian elements, whose radii the weights carry).
+    stiffness_share, capacity_share : numpy.ndarray or None
+        Microslip sub-elements (:ref:`guide-pol-ind-microslip`): each row's
+        share ``c_i`` of its element's stiffness and ``w_i`` of its capacity
+        (``None`` for elastic-slip elements, one row each).
+    parent : ElementTable or None
+        Microslip sub-elements: the table of the elements they replace
+        (:func:`polind.contact.microslip.microslip_table`); ``None`` otherwise.
     """
 
     heights: np.ndarray
@@ -157,6 +164,25 @@ class ElementTable:
     weights: np.ndarray | None = None
     plasticity: object = None
     radii: np.ndarray | None = None
+    stiffness_share: np.ndarray | None = None
+    capacity_share: np.ndarray | None = None
+    parent: "ElementTable | None" = None
+
+    @property
+    def microslip_elements(self) -> int:
+        """Sub-elements per element (1 for elastic-slip elements, :ref:`guide-pol-ind-microslip`)."""
+        return 1 if self.parent is None else len(self) // len(self.parent)
+
+    @property
+    def slip_displacement(self) -> np.ndarray:
+        """Each element's Cattaneo–Mindlin slip displacement ``u*_j = 3 mu_s P_j / (16 G* a_j)`` [m].
+
+        ``1.5 W_j / k_j`` of the elements (of :attr:`parent` for sub-elements):
+        the displacement at which a sphere of that load and contact radius
+        slips whole (:ref:`guide-pol-ind-microslip`).
+        """
+        elements = self if self.parent is None else self.parent
+        return 1.5 * elements.breakaway_force / elements.stiffness
 
     @property
     def contact_weights(self) -> np.ndarray:
@@ -180,7 +206,16 @@ class ElementTable:
         return float(self.breakaway_force.sum() / self.static_coefficient)
 
     def properties_at(self, separation: float) -> tuple[np.ndarray, np.ndarray]:
-        """``(k_j, W_j)`` of the same elements at another separation [m]."""
+        """``(k_j, W_j)`` of the same elements at another separation [m].
+
+        Microslip sub-elements get their shares of their element's numbers
+        (each follows its element's load, :ref:`guide-pol-ind-microslip`).
+        """
+        if self.parent is not None:
+            stiffness, capacity = self.parent.properties_at(separation)
+            m = self.microslip_elements
+            return (np.repeat(stiffness, m) * self.stiffness_share,
+                    np.repeat(capacity, m) * self.capacity_share)
         out_k = np.empty_like(self.heights)
         out_W = np.empty_like(self.heights)
         if self.plasticity is not None:
@@ -220,9 +255,13 @@ class ElementTable:
         which the table itself carries ``N(t)`` exactly, so
         ``sum_j W_j(t) = mu_s N(t)`` at every sample without renormalising.
         (The Pol-Ind model solves the continuous surface instead,
-        :ref:`guide-pol-ind-separation`, and renormalises.)
+        :ref:`guide-pol-ind-separation`, and renormalises.)  Microslip
+        sub-elements give their elements' surface.
         """
         from polind.contact.surface import DirectSurface
+
+        if self.parent is not None:
+            return self.parent.as_surface()
 
         if self.plasticity is not None:
             return DirectSurface(self.heights, self.asperity_radius, self.E_star, self.G_star,

@@ -49,7 +49,7 @@ from polind.models.maxwell_slip import MaxwellSlip
 from polind.models.params import Param, VISCOUS
 from polind.models.pol_ind_tables import (DISCRETISATION_TABLE, MAP_KEYS, MAPPED_SURFACE_KEYS,
                                          MATERIALS_TABLE, SAMPLED_SURFACE_KEYS, SURFACE_TABLE,
-                                         surface_of)
+                                         plastic_arrays, surface_of)
 
 
 def default_table() -> dict:
@@ -172,6 +172,7 @@ class PolInd(FrictionModel):
     @classmethod
     def _check(cls, params):
         from polind.contact.elements import MAX_ELEMENTS
+        from polind.contact.microslip import microslip_of
 
         surface = params["surface"]
         discretisation = params["discretisation"]
@@ -209,6 +210,12 @@ class PolInd(FrictionModel):
         if materials.get("hardness") is not None and materials.get("yield_strength") is not None:
             raise InputError("The 'materials.hardness' and 'materials.yield_strength' of pol-ind are "
                              "two ways of giving one number (H = 2.8 Y): give one of them. Got both.")
+        microslip_of(discretisation)
+        if surface.get("bulk_compliance") is not None and "ball_radius" not in surface:
+            raise InputError("The 'surface.bulk_compliance' parameter of pol-ind is the compliance "
+                             "of a ball's Hertz contact: it needs a 'surface.ball_radius'. Got "
+                             f"{surface['bulk_compliance']!r} on a flat; remove it (a flat's "
+                             "bulk is a [model.compliance] of its own).")
         count = discretisation["elements"]
         if not 1 <= count <= MAX_ELEMENTS:
             raise InputError(f"The 'discretisation.elements' parameter of pol-ind must be in the "
@@ -538,7 +545,7 @@ class PolInd(FrictionModel):
         table = np.zeros((slots.N_ROWS, gms_table.shape[1]))
         table[:gms_table.shape[0]] = gms_table
         if surface.yields:
-            return _plastic_arrays(scalars, table, contact)
+            return plastic_arrays(scalars, table, contact)
         return scalars, table
 
     def characteristic_scales(self):
@@ -556,7 +563,43 @@ class PolInd(FrictionModel):
 
     def load_bounds(self, state):
         table_load = float(state.variables["table_load"][0])
+        if self.microslip_elements is not None:
+            return table_load, table_load
         return self._smallest_load(table_load), table_load
+
+    @property
+    def microslip_elements(self) -> int | None:
+        """Sub-elements per element with ``tangential = "mindlin"``, else ``None``
+        (:ref:`guide-pol-ind-microslip`)."""
+        from polind.contact.microslip import microslip_of
+        return microslip_of(self._params["discretisation"])
+
+    @property
+    def bulk_stiffness(self) -> float:
+        """``8 G* a`` [N/m] of a ball's bulk (:ref:`guide-pol-ind-bulk`), ``inf`` without one.
+
+        A ``surface.ball_radius`` contact carries the smooth ball's Mindlin
+        compliance ``1 / (8 G* a)``, ``a = (3 N R_b / (4 E*))^(1/3)`` its Hertz
+        contact radius at the model's ``normal_load``, in series with the
+        asperities unless ``surface.bulk_compliance = false``.
+        """
+        from polind.contact.ball import bulk_stiffness
+        return bulk_stiffness(self._params)
+
+    @property
+    def series_stiffness(self) -> float:
+        """k_s [N/m]: ``[model.compliance]`` in series with a ball's bulk (:attr:`bulk_stiffness`).
+
+        ``1 / (1 / k_compliance + 1 / (8 G* a))``; either alone where the other
+        is absent, ``inf`` with neither (:ref:`guide-pol-ind-bulk`).
+        """
+        given = super().series_stiffness
+        bulk = self.bulk_stiffness
+        if bulk == math.inf:
+            return given
+        if given == math.inf:
+            return bulk
+        return 1.0 / (1.0 / given + 1.0 / bulk)
 
     def _smallest_load(self, table_load):
         """The smallest load [N] a run on the table built at ``table_load`` [N] may use.
@@ -581,6 +624,9 @@ class PolInd(FrictionModel):
         """
         table_load = float(state.variables["table_load"][0])
         peak = float(np.max(loads))
+        if self.microslip_elements is not None:
+            from polind.contact.microslip import check_constant_load
+            check_constant_load(loads, table_load)
         if peak > table_load * (1.0 + 1e-12):
             raise InputError(f"The 'normal_load' reaches {peak!r} N but the state's element "
                              f"table was built for at most {table_load!r} N; start the first "
@@ -593,23 +639,3 @@ class PolInd(FrictionModel):
                              f"no asperity would be in contact. Got {low!r} N at index {index}; "
                              f"expected at least {smallest:.6g} N.")
 
-
-def _plastic_arrays(scalars, table, contact):
-    """The kernel arrays of :mod:`polind.kernels.pol_ind_plastic` from the Hertzian step's.
-
-    The surface vector of :mod:`polind.kernels.plastic_separation` after the
-    scalars, the elements' asperity counts and radii after the table's rows.
-    """
-    from polind.contact.plasticity import plastic_kernel_arguments
-    from polind.kernels import pol_ind_plastic as slots
-
-    vector = plastic_kernel_arguments(contact.surface)[0]
-    elements = contact.elements
-    plastic_scalars = np.zeros(slots.N_PLASTIC_SCALARS)
-    plastic_scalars[:scalars.shape[0]] = scalars
-    plastic_scalars[slots.PLASTIC_SURFACE:] = vector
-    plastic_table = np.zeros((slots.N_PLASTIC_ROWS, table.shape[1]))
-    plastic_table[:table.shape[0]] = table
-    plastic_table[slots.ELEMENT_ASPERITIES] = elements.asperities
-    plastic_table[slots.ELEMENT_RADIUS] = elements.radii
-    return plastic_scalars, plastic_table

@@ -4,7 +4,8 @@ The ``[model.surface]``, ``[model.materials]`` and ``[model.discretisation]``
 tables of a ``pol-ind`` model file declared as data (the file-format tables
 of the documentation are generated from them; :ref:`formats-model-files`), and
 :func:`surface_of`, the surface of a parameter set from the cache of recently
-built ones.  Part of :mod:`polind.models.pol_ind`, which owns the model.
+built ones, and :func:`plastic_arrays`, the elastic-plastic kernel arrays of a
+contact.  Part of :mod:`polind.models.pol_ind`, which owns the model.
 """
 
 from __future__ import annotations
@@ -14,10 +15,12 @@ import os
 import threading
 from collections import OrderedDict
 
+import numpy as np
+
 from polind.models.params import Param, Table
 
 __all__ = ["SURFACE_TABLE", "MATERIALS_TABLE", "DISCRETISATION_TABLE", "SAMPLED_SURFACE_KEYS",
-           "MAPPED_SURFACE_KEYS", "MAP_KEYS", "surface_of"]
+           "MAPPED_SURFACE_KEYS", "MAP_KEYS", "plastic_arrays", "surface_of"]
 
 # The keys a file of measured summit heights replaces: required without one,
 # refused with one (PolInd._check).
@@ -65,6 +68,12 @@ SURFACE_TABLE = Table("surface", (
                        "at the normal load, and follows a varying load "
                        "(:ref:`guide-measured-surfaces-ball`)."),
           symbol="R_b"),
+    Param("bulk_compliance", kind="bool", default=None, fittable=False,
+          description=("Ball on flat only: the smooth ball's Mindlin compliance "
+                       ":math:`1 / (8 G^* a)`, :math:`a` its Hertz contact radius at the "
+                       "normal load, in series with the asperities (with a "
+                       "``[model.compliance]`` too); default ``true``, ``false`` leaves it out "
+                       "(:ref:`guide-pol-ind-bulk`).")),
 ), description="The rough surface (:ref:`guide-pol-ind-surface`).")
 MATERIALS_TABLE = Table("materials", (
     Param("youngs_modulus", kind="pair", unit="Pa",
@@ -94,6 +103,15 @@ DISCRETISATION_TABLE = Table("discretisation", (
           description=("Direct summation: a CSV file of measured summit heights (column "
                        "``h``, m), relative to the model file; replaces "
                        "``asperity_density``, ``nominal_area`` and ``height_std``.")),
+    Param("tangential", kind="str", default=None, choices=("elastic-slip", "mindlin"),
+          fittable=False,
+          description=('The asperities\' tangential law: ``"elastic-slip"`` (default; one '
+                       'element each) or ``"mindlin"`` (Cattaneo–Mindlin microslip: '
+                       '``microslip_elements`` sub-elements each, at a constant normal load; '
+                       ':ref:`guide-pol-ind-microslip`).')),
+    Param("microslip_elements", kind="int", default=None, fittable=False,
+          description=('With ``tangential = "mindlin"``: sub-elements per element, an '
+                       'integer from 2 to 1024 (default 32).')),
 ), default={},
           description="How the surface becomes elements (:ref:`guide-pol-ind-elements`).")
 
@@ -151,3 +169,24 @@ def _hertzian_surface_of(params):
         while len(_SURFACES) > _SURFACES_KEPT:
             _SURFACES.popitem(last=False)
     return surface
+
+
+def plastic_arrays(scalars, table, contact):
+    """The kernel arrays of :mod:`polind.kernels.pol_ind_plastic` from the Hertzian step's.
+
+    The surface vector of :mod:`polind.kernels.plastic_separation` after the
+    scalars, the elements' asperity counts and radii after the table's rows.
+    """
+    from polind.contact.plasticity import plastic_kernel_arguments
+    from polind.kernels import pol_ind_plastic as slots
+
+    vector = plastic_kernel_arguments(contact.surface)[0]
+    elements = contact.elements
+    plastic_scalars = np.zeros(slots.N_PLASTIC_SCALARS)
+    plastic_scalars[:scalars.shape[0]] = scalars
+    plastic_scalars[slots.PLASTIC_SURFACE:] = vector
+    plastic_table = np.zeros((slots.N_PLASTIC_ROWS, table.shape[1]))
+    plastic_table[:table.shape[0]] = table
+    plastic_table[slots.ELEMENT_ASPERITIES] = elements.asperities
+    plastic_table[slots.ELEMENT_RADIUS] = elements.radii
+    return plastic_scalars, plastic_table
