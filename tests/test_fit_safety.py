@@ -241,17 +241,22 @@ def test_a_force_level_beyond_the_data_is_warned_about():
     assert len(notes) == 1 and notes[0].startswith("The sliding force level of the fitted "
                                                    "coulomb model, 3 N, is ")
     assert f"({largest:.4g} N; warned above 1.05 times)" in notes[0]
-    # A break-away level of 4 N (1.97 times) that the data never reach: warned; the
-    # sliding level the data chose is not.  At 2.5 N (1.23 times) the break-away level is
-    # within its margin.
-    for static, warned in ((4.0, True), (2.5, False)):
+    # A break-away level of at least 4 N (1.97 times) that the data never reach, held by
+    # its bounds: warned; the sliding level the data chose is not.  Within [2.5, 2.6] N
+    # (at most 1.28 times) the break-away level is within its margin.  A level the user
+    # fixed (static_force not free) is not the fit's choice: never warned (issue 43).
+    for static, free, warned in ((4.0, True, True), (2.5, True, False), (4.0, False, False)):
         start = model({"type": "stribeck", "coulomb_force": 1.0, "static_force": static,
                        "stribeck_velocity": 1e-6})
-        fit = quiet(identify, start, data, free=["coulomb_force"])
+        fit = quiet(identify, start, data, free=["coulomb_force"] + ["static_force"] * free,
+                    bounds={"static_force": [static, static + 1.0 if warned else 2.6]}
+                    if free else None)
         assert fit.values["coulomb_force"] == pytest.approx(2.0, rel=0.01)
+        level = fit.model.params["static_force"]
+        assert static <= level <= static + 1.0
         notes = [note for note in fit.warnings if "force level" in note]
         assert notes == ([f"The break-away force level of the fitted stribeck model, "
-                          f"{static:.4g} N, is {static / largest:.3g} times the largest "
+                          f"{level:.4g} N, is {level / largest:.3g} times the largest "
                           f"measured |F| ({largest:.4g} N; warned above 1.5 times): the data "
                           "did not choose it. Bound the force levels, or fit data that reach "
                           "them."] if warned else []), fit.warnings

@@ -78,9 +78,11 @@ documentation's file formats page), never an unbounded range.  Every fit lists i
 parameter that ended at a bound, one the data do not determine (standard
 error larger than its value, or not finite), a data column or signal the
 model does not use, a start outside the default bounds, a solver that
-stopped early; and whether the fit as a whole is credible: a force level
-beyond the largest measured force, residuals with structure (a runs test), a
-held-out error far above the in-sample one.  ``holdout=F`` fits the first
+stopped early; and whether the fit as a whole is credible: an RMS error above
+the record's noise, estimated from its high-frequency part (:func:`noise_level`),
+a force level beyond the largest measured force that a free value set,
+residuals with structure (a runs test), a held-out error far above the
+in-sample one.  ``holdout=F`` fits the first
 ``1 - F`` of the record and scores the prediction of the rest.  The columns of
 the finite-difference Jacobian run on threads (the numba kernels release the
 GIL).
@@ -112,8 +114,9 @@ One idea each; everything public is imported here:
 * ``threads`` -- the fit's threads, and one BLAS thread for its matrix products;
 * ``results`` -- :class:`polind.FitResult`, its standard errors and warnings;
 * ``credibility`` -- the warnings on a fit as a whole (:ref:`guide-fit-warnings`):
-  a force level beyond the data, residuals with structure (:func:`runs_test`), a
-  held-out error far above the in-sample one;
+  an error above the record's noise (:func:`noise_level`), a force level beyond the
+  data, residuals with structure (:func:`runs_test`), a held-out error far above the
+  in-sample one;
 * ``memory`` -- the memory a fit holds per sample;
 * ``structure`` -- the structured fits :func:`identify_maxwell_slip`,
   :func:`identify_gms` and :func:`identify_stribeck`, which check the data and call
@@ -126,9 +129,9 @@ One idea each; everything public is imported here:
 
 from polind.identification.comparison import COLOURS, COLUMNS, Comparison, compare
 from polind.identification.credibility import (BREAKAWAY_LEVEL, CORRELATION_WINDOW, HOLDOUT_RATIO,
-                                               RUNS_SHARE, RUNS_Z, SLIDING_LEVEL,
-                                               autocorrelation_time,
-                                               runs_test)
+                                               NOISE_CLIP, NOISE_ORDER, NOISE_RATIO, RUNS_Z,
+                                               SLIDING_LEVEL, STRUCTURE_TIME,
+                                               autocorrelation_time, noise_level, runs_test)
 from polind.identification.data import MeasuredData, holdout_split, measured_data
 from polind.identification.memory import fit_bytes_per_sample
 from polind.identification.parameters import (DEFAULT_RANGES, UNSCALED_RANGE, default_bounds,
@@ -146,5 +149,6 @@ __all__ = ["FitResult", "identify", "parse_fit", "default_bounds", "identify_max
            "UNSCALED_RANGE", "COLUMNS", "COLOURS", "Comparison", "compare",
            "DEFAULT_SPREAD_STARTS", "SPREAD_SPAN", "spread_points", "STILL_COLUMN",
            "NOISE_SHARE", "STEP_SHARE",
-           "SLIDING_LEVEL", "BREAKAWAY_LEVEL", "RUNS_Z", "RUNS_SHARE", "HOLDOUT_RATIO",
+           "SLIDING_LEVEL", "BREAKAWAY_LEVEL", "RUNS_Z", "STRUCTURE_TIME", "HOLDOUT_RATIO",
+           "NOISE_RATIO", "NOISE_ORDER", "NOISE_CLIP", "noise_level",
            "runs_test", "autocorrelation_time", "CORRELATION_WINDOW"]

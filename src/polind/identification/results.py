@@ -13,12 +13,17 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from polind.identification.credibility import credibility_warnings
-from polind.identification.parameters import split_variables
+from polind.errors import InputError
+from polind.identification.credibility import credibility_warnings, noise_level
+from polind.identification.parameters import model_at, split_variables
 from polind.identification.starts import GIVEN_START
 from polind.models import FrictionModel
 
 __all__ = ["FitResult", "fit_result"]
+
+# A free variable moved by this much tells whether a force level depends on it (the
+# optimiser's units: a relative 1e-3 of a log-scaled parameter).
+_LEVEL_STEP = 1e-3
 
 
 @dataclass(frozen=True)
@@ -75,6 +80,14 @@ class FitResult:
     starts : tuple of (str, float)
         Every start tried and the RMS error in sample [N] its fit reached, in
         the order tried.
+    noise_estimate : float or None
+        The standard deviation of the record's noise [N], estimated from the
+        high-frequency part of the fitted samples' force
+        (:func:`polind.identification.noise_level`); a fit whose
+        ``rms_error`` exceeds it by more than
+        :data:`polind.identification.NOISE_RATIO` warns
+        (:ref:`guide-fit-warnings`).  NaN for a record too short to tell;
+        None on a result made without it.
     """
 
     model: FrictionModel
@@ -95,6 +108,7 @@ class FitResult:
     parameter_count: int = 0
     start_label: str = GIVEN_START
     starts: tuple = ()
+    noise_estimate: float | None = None
 
     def __repr__(self):
         held_out = ("" if self.holdout_rms_error is None
@@ -167,7 +181,9 @@ class FitResult:
         """A few lines for a terminal: the RMS errors and each key's value and standard error."""
         held_out = ("" if self.holdout_rms_error is None
                     else f", holdout_rms_error = {self.holdout_rms_error:.6g} N")
-        lines = [f"{self.model.type}: rms_error = {self.rms_error:.6g} N{held_out}, "
+        noise = ("" if self.noise_estimate is None
+                 else f" (the record's noise: {self.noise_estimate:.3g} N)")
+        lines = [f"{self.model.type}: rms_error = {self.rms_error:.6g} N{noise}{held_out}, "
                  f"iterations = {self.iterations}" + ("" if self.success else
                                                       f" (stopped: {self.message})"),
                  f"  start: {self.start_label} (best of {max(len(self.starts), 1)})"]
@@ -282,7 +298,22 @@ def fit_result(model, start, frees, u, bounds, force, data, iterations, evaluati
         tail = whole[data.size:] - record.force[data.size:]
         held_out = float(np.sqrt(np.mean(tail ** 2)))
         force = whole
-    notes += credibility_warnings(model, data, residual, held_out)
+    noise = noise_level(data.t, data.force)
+
+    def neighbours():
+        """The model with each free value moved a little (None where it makes no model)."""
+        out = []
+        for index in range(u.size):
+            moved = np.array(u, dtype=np.float64)
+            moved[index] += _LEVEL_STEP
+            try:
+                out.append(model_at(start, frees, moved))
+            except InputError:
+                out.append(None)
+        return out
+
+    notes += credibility_warnings(model, data, residual, held_out, noise=noise,
+                                  neighbours=neighbours, starts=max(len(starts), 1))
     return FitResult(model=model, start=start, free=tuple(f.key for f in frees),
                      bounds={key: tuple(pair) for key, pair in bounds.items()}, values=values,
                      standard_errors=standard_errors,
@@ -291,4 +322,5 @@ def fit_result(model, start, frees, u, bounds, force, data, iterations, evaluati
                      force=force, warnings=tuple(notes), holdout_rms_error=held_out,
                      fitted_samples=int(data.size), parameter_count=varied,
                      start_label=str(start_label),
-                     starts=tuple((str(label), float(rms)) for label, rms in starts))
+                     starts=tuple((str(label), float(rms)) for label, rms in starts),
+                     noise_estimate=float(noise))
