@@ -67,24 +67,38 @@ class Variant:
     model_type: str
     runners: tuple
     changes: dict = field(default_factory=dict)
+    #: Runner modules of ``runners`` another group compiles: not grouped by (:func:`families`).
+    shared: tuple = ()
+    #: The seconds its drivers took to compile on a 2-core machine (a fresh precompile,
+    #: measured): :func:`families` starts the longest groups first.
+    cost: float = 1.0
+
+    @property
+    def grouped_by(self) -> set:
+        """The runner modules :func:`families` keeps in one process: ``runners`` but ``shared``."""
+        return set(self.runners) - set(self.shared)
 
 
 #: Every model ``precompile`` runs, by name: each built-in type's example, and Pol-Ind's
 #: kernel variants (statistical at a varying load, at its fixed load, elastic-plastic).
 VARIANTS = {
-    "coulomb": Variant("coulomb", ("memoryless",)),
-    "stribeck": Variant("stribeck", ("memoryless",)),
-    "dahl": Variant("dahl", ("dahl",)),
-    "lugre": Variant("lugre", ("lugre",)),
-    "maxwell-slip": Variant("maxwell-slip", ("maxwell_slip",)),
-    "gms": Variant("gms", ("gms",)),
-    "leuven": Variant("leuven", ("leuven",)),
-    "pol-ind": Variant("pol-ind", ("pol_ind", "pol_ind_fixed_load")),
+    "coulomb": Variant("coulomb", ("memoryless",), cost=24),
+    "stribeck": Variant("stribeck", ("memoryless",), cost=1),
+    "dahl": Variant("dahl", ("dahl",), cost=22),
+    "lugre": Variant("lugre", ("lugre",), cost=32),
+    "maxwell-slip": Variant("maxwell-slip", ("maxwell_slip",), cost=29),
+    "gms": Variant("gms", ("gms",), cost=42),
+    "leuven": Variant("leuven", ("leuven",), cost=35),
+    "pol-ind": Variant("pol-ind", ("pol_ind", "pol_ind_fixed_load"), cost=68),
+    # Its fixed-load runs use the fixed-load runners Pol-Ind's own variant compiles, but it
+    # is a group of its own (``shared``): one group of both took some 125 s in one process
+    # while the other took the rest (185 s), against about 155 s each apart (the few
+    # fixed-load runners the two may then compile side by side cost less than that).
     "pol-ind elastic-plastic": Variant("pol-ind", ("pol_ind_plastic", "pol_ind_fixed_load"), {
         "materials": {"youngs_modulus": [210e9, 210e9], "poisson_ratio": [0.3, 0.3],
-                      "hardness": 2e9}}),
+                      "hardness": 2e9}}, shared=("pol_ind_fixed_load",), cost=58),
     # Steps as Maxwell-slip: its runs compile nothing of their own (one group with it).
-    "iwan4": Variant("iwan4", ("maxwell_slip",)),
+    "iwan4": Variant("iwan4", ("maxwell_slip",), cost=1),
 }
 
 
@@ -301,20 +315,23 @@ def tasks(types=None, drivers=None):
 def families(work):
     """``work`` (:func:`tasks`) split into groups whose variants share no runner module.
 
-    Variants that share one (Coulomb and Stribeck, Pol-Ind's) are one group;
-    the groups that compile the most runner modules come first (the longest
-    compilations start first).
+    Variants that share one (Coulomb and Stribeck, Maxwell-slip and iwan4) are
+    one group, but for the modules a variant leaves to another
+    (``Variant.shared``); the groups whose variants took longest to compile
+    come first (``Variant.cost``: the longest compilations start first, so
+    that the processes end together).
     """
     groups = []     # [(runner modules, tasks)]
     for name, driver in work:
-        runners = set(VARIANTS[name].runners)
+        runners = VARIANTS[name].grouped_by
         joined = [group for group in groups if group[0] & runners]
         for group in joined:
             groups.remove(group)
             runners |= group[0]
         merged = [task for group in joined for task in group[1]] + [(name, driver)]
         groups.append((runners, merged))
-    groups.sort(key=lambda group: len(group[0]), reverse=True)
+    groups.sort(key=lambda group: sum(VARIANTS[name].cost for name in
+                                      {name for name, _ in group[1]}), reverse=True)
     return [sorted(group, key=work.index) for _, group in groups]
 
 
