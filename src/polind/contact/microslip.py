@@ -58,7 +58,11 @@ err by 22 % at ``q = 0.1``):
   slip displacements 0.04 % short);
 * every vertex energy is lowered by half the largest relative excess of the
   chords over ``D`` on [0.05, 1], so the error there alternates between
-  ``+e`` and ``-e``.
+  ``+e`` and ``-e``;
+* with fewer than 12 sub-elements (no decade below 0.05) the vertices are
+  instead the edges of bins of the density, one sub-element at each bin's
+  centroid (:func:`_binned`): a polyline of so few vertices would need slip
+  displacements beyond ``u*``.
 
 Measured against ``D(q)`` (``q`` in [0.05, 0.95]): 0.90 % at the default
 ``m = 32``, 0.22 % at 64, 0.051 % at 128 and 0.0008 % at 1024 (16
@@ -94,8 +98,6 @@ MICROSLIP_RANGE = (2, 1024)
 _FINE_START = 0.05
 _COARSE_START = 0.005
 _COARSE_SHARE = 10
-# Largest lowering of the vertex energies (a table of very few sub-elements).
-_LARGEST_SHIFT = 0.1
 # Units: stiffness in 8 G* a, displacement in u*, so Q in 8 G* a u* (q = 1.5 Q) and D
 # in 8 G* a u*^2, where the Mindlin-Deresiewicz factor 9 mu^2 P^2 / (10 a G*) is 3.2.
 _Q_PER_FORCE = 2.0 / 3.0
@@ -171,7 +173,7 @@ def _even_in_z(start, end, intervals):
 def _vertices(m):
     """The loop-energy vertices ``q_1 .. q_m`` of the placement rule (module notes)."""
     intervals = m - 2
-    coarse = min(math.ceil(intervals / _COARSE_SHARE), intervals - 1) if intervals > 1 else 0
+    coarse = math.ceil(intervals / _COARSE_SHARE) if intervals >= _COARSE_SHARE else 0
     fine = intervals - coarse
     if fine == 0:
         curve = np.array([1.0])
@@ -225,6 +227,23 @@ def _iwan_of_polyline(force, energy):
     return c, s
 
 
+def _binned(vertices):
+    """``(c, s)`` of bins of the density, edged at the vertices below full slip.
+
+    Few sub-elements (fewer than 12): the density in ``s`` split at the
+    ``s`` of ``0, q_1, ..., q_(m-1), 1``; each bin one sub-element with the
+    bin's stiffness ``c = sqrt(1 - s_a) - sqrt(1 - s_b)`` at the bin's
+    centroid (its capacity the bin's).  Every slip displacement then lies
+    inside ``(0, u*)``, which the polyline of so few vertices does not keep.
+    """
+    edges = np.concatenate(([0.0], 1.0 - (1.0 - vertices[:-1]) ** (2.0 / 3.0), [1.0]))
+    root = np.sqrt(1.0 - edges)
+    stiffness = root[:-1] - root[1:]
+    # int s (1 - s)^(-1/2) / 2 ds = -(1/3) sqrt(1 - s) (2 + s)
+    moment = root[:-1] * (2.0 + edges[:-1]) / 3.0 - root[1:] * (2.0 + edges[1:]) / 3.0
+    return stiffness, moment / stiffness
+
+
 @functools.lru_cache(maxsize=16)
 def microslip_fractions(m: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``(c, s, w)`` of ``m`` sub-elements: stiffness shares, slip fractions, capacity shares.
@@ -242,10 +261,13 @@ def microslip_fractions(m: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     (1.0, 1.0, True)
     """
     q = _vertices(int(m))
-    shift = min(0.5 * _chord_excess(q), _LARGEST_SHIFT)
-    energy = _D_PER_ENERGY * mindlin_energy_ratio(q) * (1.0 - shift)
-    energy[0] = 0.0
-    c, s = _iwan_of_polyline(_Q_PER_FORCE * q, energy)
+    if m - 2 < _COARSE_SHARE:
+        c, s = _binned(q)
+    else:
+        shift = 0.5 * _chord_excess(q)
+        energy = _D_PER_ENERGY * mindlin_energy_ratio(q) * (1.0 - shift)
+        energy[0] = 0.0
+        c, s = _iwan_of_polyline(_Q_PER_FORCE * q, energy)
     c = c / c.sum()
     w = 1.5 * c * s
     w = w / w.sum()
