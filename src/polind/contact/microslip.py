@@ -31,14 +31,13 @@ where ``u*_j = (3/2) W_j / k_j`` is the element's ``3 mu P_j / (16 G* a_j)``
 ``sum w_i = 1`` to rounding, so ``sum k = 8 G* a_j`` and ``sum W = mu_s P_j``
 and every limit of the Pol-Ind law holds unchanged.
 
-The placement rule (:func:`microslip_fractions`)
---------------------------------------------------
+**The placement rule** (:func:`microslip_fractions`).
 An m-element Iwan model's loop energy, against the force amplitude, is a
 polyline: linear between the amplitudes at which its elements start to slip,
 with a vertex at each.  Conversely every polyline that starts on ``D = 0``,
 ends at ``q = 1`` and has increasing slopes is the loop energy of one Iwan
 model, whose total stiffness and capacity are the continuum's (the recursion
-in :func:`_iwan_of_polyline`).  So the sub-elements are placed for the
+in ``_iwan_of_polyline``).  So the sub-elements are placed for the
 energy, not by a polynomial quadrature of the density (16 Gauss–Jacobi nodes
 err by 22 % at ``q = 0.1``):
 
@@ -61,7 +60,7 @@ err by 22 % at ``q = 0.1``):
   ``+e`` and ``-e``;
 * with fewer than 12 sub-elements (no decade below 0.05) the vertices are
   instead the edges of bins of the density, one sub-element at each bin's
-  centroid (:func:`_binned`): a polyline of so few vertices would need slip
+  centroid (``_binned``): a polyline of so few vertices would need slip
   displacements beyond ``u*``.
 
 Measured against ``D(q)`` (``q`` in [0.05, 0.95]): 0.90 % at the default
@@ -135,7 +134,7 @@ def mindlin_loop_energy(amplitude, P, a, mu, G_star):
 
 
 def _energy_curvature(q):
-    """``sqrt(f'' / (8 f))`` (``f'' = (5/27) q (1 - q)^(-4/3)``), the density of :func:`_z_of_q`."""
+    """``sqrt(f'' / (8 f))`` (``f'' = (5/27) q (1 - q)^(-4/3)``), the density of ``z``."""
     p = np.cbrt(1.0 - q)
     s = 1.0 + p + p * p
     return np.sqrt(5.0 / 36.0 * s ** 3 / (p ** 4 * (1.0 + 3.0 * p + p * p))) / q

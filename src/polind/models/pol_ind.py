@@ -107,7 +107,9 @@ class PolInd(FrictionModel):
     discretisation : table
         ``summation`` "statistical" (``elements`` height bins) or "direct"
         (``seed`` for Gaussian summit heights, or ``heights_file``: a CSV
-        with a column ``h`` of measured summit heights [m]).
+        with a column ``h`` of measured summit heights [m]); ``tangential``
+        "elastic-slip" (default) or "mindlin" with ``microslip_elements``
+        (default 32): Cattaneo–Mindlin sub-elements, :ref:`guide-pol-ind-microslip`.
 
     Examples
     --------
