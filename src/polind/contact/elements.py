@@ -177,7 +177,7 @@ class ElementTable:
     def slip_displacement(self) -> np.ndarray:
         """Each element's Cattaneo–Mindlin slip displacement ``u*_j = 3 mu_s P_j / (16 G* a_j)`` [m].
 
-        ``1.5 W_j / k_j`` of the elements (of :attr:`parent` for sub-elements):
+        ``1.5 W_j / k_j`` of the elements (of ``parent`` for sub-elements):
         the displacement at which a sphere of that load and contact radius
         slips whole (:ref:`guide-pol-ind-microslip`).
         """

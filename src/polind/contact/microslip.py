@@ -13,7 +13,7 @@ stiffness density
 whose total stiffness is ``8 G* a`` and total capacity ``mu P``.  With
 ``s = phi / u*`` the density is ``4 G* a (1 - s)^(-1/2)``, its virgin curve
 ``Q(u) = mu P [1 - (1 - u / u*)^(3/2)]`` (Cattaneo) and its loop energy at the
-amplitude ``Q = q mu P`` (Mindlin–Deresiewicz)
+amplitude ``Q = q mu P`` (Mindlin–Deresiewicz)::
 
     D(q) = (9 mu^2 P^2 / (10 a G*)) f(q),
     f(q) = 1 - (1 - q)^(5/3) - (5 q / 6) (1 + (1 - q)^(2/3))
@@ -125,7 +125,7 @@ def mindlin_energy_ratio(q):
 def mindlin_loop_energy(amplitude, P, a, mu, G_star):
     """Energy [J] one Cattaneo–Mindlin sphere dissipates per cycle of tangential amplitude ``Q`` [N].
 
-    ``D = (9 mu^2 P^2 / (10 a G*)) f(Q / (mu P))`` (:func:`mindlin_energy_ratio`),
+    ``D = (9 mu^2 P^2 / (10 a G*)) f(Q / (mu P))`` (:func:`polind.contact.microslip.mindlin_energy_ratio`),
     for ``|Q| <= mu P`` at the constant normal load ``P`` [N], contact radius
     ``a`` [m] and effective shear modulus ``G*`` [Pa].
     """
@@ -285,7 +285,7 @@ def microslip_table(table, m: int):
         Elastic-slip elements (a bin, a summit or an elastic-plastic summit
         each, :ref:`guide-pol-ind-elements`).
     m : int
-        Sub-elements per element (:func:`microslip_fractions`).
+        Sub-elements per element (:func:`polind.contact.microslip.microslip_fractions`).
 
     Returns
     -------
