@@ -28,31 +28,12 @@ from polind import io
 from polind.cli import _run
 from polind.errors import InputError
 
+from model_files import direct_pol_ind
+
 SAFETY = settings(max_examples=25, deadline=None, database=None,
                   suppress_health_check=[HealthCheck.function_scoped_fixture,
                                          HealthCheck.too_slow])
 
-DIRECT = """[model]
-type = "pol-ind"
-normal_load = 1.0
-static_coefficient = 0.15
-kinetic_coefficient = 0.10
-stribeck_velocity = 1e-3
-attraction = 1e4
-
-[model.surface]
-asperity_radius = 50e-6
-{surface}
-[model.materials]
-youngs_modulus = [210e9, 210e9]
-poisson_ratio = [0.3, 0.3]
-
-[model.discretisation]
-summation = "direct"
-{discretisation}
-[fit]
-free = ["attraction"]
-"""
 
 
 def write_files(folder):
@@ -62,11 +43,11 @@ def write_files(folder):
     (folder / "heights.csv").write_text(
         "h\n" + "".join(f"{value!r}\n" for value in rng.normal(0.0, 0.5e-6, 50)))
     np.savetxt(folder / "map.csv", rng.normal(0.0, 1e-6, (12, 12)), delimiter=",")
-    (folder / "direct.toml").write_text(DIRECT.format(
-        surface="", discretisation='heights_file = "heights.csv"\n'))
-    (folder / "mapped.toml").write_text(DIRECT.format(
-        surface='topography = "map.csv"\npixel_size = [1e-6, 1e-6]\n',
-        discretisation="").replace("asperity_radius = 50e-6\n", ""))
+    fit = '[fit]\nfree = ["attraction"]\n'
+    (folder / "direct.toml").write_text(direct_pol_ind(fit=fit))
+    (folder / "mapped.toml").write_text(direct_pol_ind(
+        heights_file=None, surface='topography = "map.csv"\npixel_size = [1e-6, 1e-6]\n',
+        fit=fit))
     (folder / "coulomb.toml").write_text('[model]\ntype = "coulomb"\ncoulomb_force = 1.0\n')
     t = np.arange(21) * 1e-3
     io.write_csv_atomic(folder / "motion.csv", {"t": t, "x": 1e-6 * np.arange(21)})

@@ -28,6 +28,8 @@ from polind.errors import InputError
 from polind.topography import analyse
 from polind.topography.heightmap import SMALLEST_HEIGHT, HeightMap, read_height_map
 
+from model_files import direct_pol_ind
+
 SAFETY = settings(max_examples=25, deadline=None, database=None,
                   suppress_health_check=[HealthCheck.function_scoped_fixture,
                                          HealthCheck.too_slow])
@@ -184,27 +186,9 @@ def _direct_model(tmp_path, normal_load):
     heights = np.random.default_rng(0).normal(scale=0.5e-6, size=200)
     (tmp_path / "summits.csv").write_text("h\n" + "".join(f"{float(h)!r}\n" for h in heights))
     model = tmp_path / "direct.toml"
-    model.write_text(f"""[model]
-type = "pol-ind"
-normal_load = {normal_load!r}
-static_coefficient = 0.15
-kinetic_coefficient = 0.10
-stribeck_velocity = 1e-3
-stribeck_exponent = 2.0
-attraction = 1e4
-viscous_coefficient = 0.0
-
-[model.surface]
-asperity_radius = 50e-6
-
-[model.materials]
-youngs_modulus = [210e9, 210e9]
-poisson_ratio = [0.3, 0.3]
-
-[model.discretisation]
-summation = "direct"
-heights_file = "summits.csv"
-""")
+    model.write_text(direct_pol_ind(
+        heights_file="summits.csv", normal_load=normal_load,
+        model_lines="stribeck_exponent = 2.0\nviscous_coefficient = 0.0\n"))
     return model
 
 

@@ -33,31 +33,15 @@ from polind import io
 from polind.errors import InputError
 from polind.sweeps import Sweep, read_results
 
+from model_files import direct_pol_ind
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 SAFETY = settings(max_examples=4, deadline=None, database=None,
                   suppress_health_check=[HealthCheck.function_scoped_fixture,
                                          HealthCheck.too_slow])
 
-DIRECT = """[model]
-type = "pol-ind"
-normal_load = 1.0
-static_coefficient = 0.15
-kinetic_coefficient = 0.10
-stribeck_velocity = 1e-3
-attraction = 1e4
-
-[model.surface]
-asperity_radius = 50e-6
-
-[model.materials]
-youngs_modulus = [210e9, 210e9]
-poisson_ratio = [0.3, 0.3]
-
-[model.discretisation]
-summation = "direct"
-heights_file = "heights.csv"
-"""
+DIRECT = direct_pol_ind()
 
 
 def heights_text(seed, count, std):

@@ -242,33 +242,28 @@ def frequency_response(structure, omega_range, *, force=None, static_force=None,
                 if solution.success:
                     break
             if solution is None:
-                error = np.inf
-                ds *= 0.5
-                if ds < smallest:
-                    curve = _curve(points, problem.evaluations)
-                    raise ContinuationError(
-                        f"The continuation of {owner} stopped at omega = "
-                        f"{float(points[-1].omega)!r} rad/s: the next step left the positive "
-                        f"frequencies or a contact's periodic state at the smallest step "
-                        f"length. The {len(points)} points found are kept.", curve)
-                continue
-            xv, w = scaled(y)
-            residual, _ = problem.residual(xv, w, applied, jacobian=False)
-            error = float(np.abs(residual).max()) / max(float(np.abs(xv).max()), 1e-300)
-            secant = (y - z) / max(np.linalg.norm(y - z), 1e-300)
-            # A step that turns the curve by more than 45 degrees is shortened, unless it is
-            # already short: then the curve has a corner (where a joint starts to slip).
-            turn = float(secant @ tau)
-            if error <= accept and w > 0 and (turn > np.cos(np.radians(45))
-                                              or (turn > 0.0 and ds <= 64 * smallest)):
+                accepted = False
+                reason = "left the positive frequencies or a contact's periodic state"
+            else:
+                xv, w = scaled(y)
+                residual, _ = problem.residual(xv, w, applied, jacobian=False)
+                error = float(np.abs(residual).max()) / max(float(np.abs(xv).max()), 1e-300)
+                secant = (y - z) / max(np.linalg.norm(y - z), 1e-300)
+                # A step that turns the curve by more than 45 degrees is shortened, unless it
+                # is already short: then the curve has a corner (where a joint starts to slip).
+                turn = float(secant @ tau)
+                accepted = error <= accept and w > 0 and (
+                    turn > np.cos(np.radians(45)) or (turn > 0.0 and ds <= 64 * smallest))
+                reason = f"did not converge (residual {error:.3g})"
+            if accepted:
                 break
             ds *= 0.5
             if ds < smallest:
                 curve = _curve(points, problem.evaluations)
                 raise ContinuationError(
                     f"The continuation of {owner} stopped at omega = {float(points[-1].omega)!r} "
-                    f"rad/s: the next step did not converge (residual {error:.3g}) at the "
-                    f"smallest step length. The {len(points)} points found are kept.", curve)
+                    f"rad/s: the next step {reason} at the smallest step length. The "
+                    f"{len(points)} points found are kept.", curve)
         # The secant predicts the next step: it keeps its direction through a fold.
         tau = secant
         z = y
