@@ -16,7 +16,7 @@ BIN    := $(VENV)/bin
 INSTALL := $(BIN)/python -m uv pip install --quiet --compile-bytecode --python $(BIN)/python
 
 # After every install, `polind precompile` compiles each built-in model's kernels for every
-# driver into numba's on-disk cache, in one process more than there are cores, so that the
+# driver into numba's on-disk cache, in as many processes as there are cores, so that the
 # demo, the tests and every later process load them instead of compiling them.  It runs
 # when the install runs (a fresh .venv, a changed pyproject.toml); a kernel edited since is
 # compiled by the first process that needs it, or by running `.venv/bin/polind precompile`.

@@ -31,9 +31,7 @@ def _names(values) -> list:
                    "simulate-v, path, Stepper, Body, BodyBatch, simulate_system, "
                    "simulate_structure, contact_period. Default: every one.")
 @click.option("--jobs", "-j", "jobs", type=click.IntRange(min=1), default=None, metavar="N",
-              help="Compile in N processes side by side. Default: one more than the "
-                   "number of CPUs (the groups of models pack better: 148 s instead of "
-                   "162 s for a fresh precompile on 2 CPUs).")
+              help="Compile in N processes side by side. Default: the number of CPUs.")
 @click.option("--quiet", "-q", is_flag=True, help="Print nothing (errors still go to standard "
                                                     "error).")
 def precompile(models, drivers, jobs, quiet):
@@ -61,10 +59,7 @@ def precompile(models, drivers, jobs, quiet):
     types = compiler.model_types(_names(models))
     chosen = compiler.driver_names(_names(drivers))
     location = compiler.cache_location()
-    # One process more than the CPUs: the groups of models are of uneven length, and with
-    # one group more under way the last ones end closer together (a fresh precompile on 2
-    # CPUs: 148 s with 3 processes, 162 s with 2).
-    jobs = _cpus() + 1 if jobs is None else jobs
+    jobs = _cpus() if jobs is None else jobs
     work = compiler.tasks(types, chosen)
     processes = min(jobs, len(compiler.families(work)))
     if not quiet:
