@@ -249,3 +249,19 @@ def test_contacts_of_different_families_are_balanced_together():
     F = hb.contact_force[:, 1] - 1j * hb.contact_force[:, 2]
     balance = (K - 80.0 ** 2 * M + 80.0j * C) @ Q + B.T @ F - np.array([2.0, 0.0])
     assert np.abs(balance).max() < 1e-6 * 2.0
+
+
+def test_a_one_element_jenkins_backbone_needs_the_loops_own_amplitude():
+    """With one element the mode's higher harmonics matter: the energy definition holds at the
+    motion's peak displacement (the loop's amplitude), not at its first harmonic's."""
+    s = one_mass(jenkins(), damping=0.0)
+    bb = polind.backbone(s, np.geomspace(1.2e-4, 2e-3, 6), harmonics=7)
+
+    def energy_ratio(X):
+        D = 4 * 1.0 * np.clip(X - 1e-4, 0, None)            # one element: 4 W (X - W/k)
+        return bb.damping_ratio / (D / (2 * np.pi * bb.frequency ** 2 * bb.amplitude ** 2)) - 1
+
+    at_peak = energy_ratio(bb.displacement_amplitude(0))
+    at_first = energy_ratio(bb.displacement_amplitude(0, harmonic=1))
+    assert np.abs(at_peak).max() < 3e-3
+    assert np.abs(at_first).max() > 1e-2
