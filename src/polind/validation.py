@@ -99,3 +99,35 @@ def check_number(owner, key, value, bound="any", *, integer=False, maximum=None)
     if maximum is not None and number > maximum:
         ctx.fail(key, f"at most {maximum}", value)
     return int(number) if integer else number
+
+
+def check_samples(owner, key, values, *, at_least=1):
+    """A 1-D array of finite numbers (``at_least`` of them), with this module's message form.
+
+    For the samples a function of arrays takes (a record's ``u`` and ``F``, a
+    period's displacement, a list of amplitudes): the first bad one is named
+    by its index.
+
+    >>> check_samples("hysteresis_loop", "u", [0.0, 1.0]).tolist()
+    [0.0, 1.0]
+    >>> check_samples("backbone", "amplitudes", [1e-5, float("nan")])
+    Traceback (most recent call last):
+    ...
+    polind.errors.InputError: The 'amplitudes' of backbone must be finite. Got nan at index 1 instead.
+    """
+    try:
+        array = np.asarray(values, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise InputError(f"The '{key}' of {owner} must be a 1-D array of numbers. Got "
+                         f"{describe(values)} instead.") from None
+    if array.ndim != 1:
+        raise InputError(f"The '{key}' of {owner} must be a 1-D array of numbers. Got an array "
+                         f"of shape {array.shape} instead.")
+    if array.shape[0] < at_least:
+        raise InputError(f"The '{key}' of {owner} must have at least {at_least} sample"
+                         f"{'s' if at_least != 1 else ''}. Got {array.shape[0]} instead.")
+    bad = np.flatnonzero(~np.isfinite(array))
+    if bad.size:
+        raise InputError(f"The '{key}' of {owner} must be finite. Got "
+                         f"{float(array[bad[0]])!r} at index {int(bad[0])} instead.")
+    return array

@@ -13,7 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from polind.errors import InputError, describe
+from polind.errors import InputError
+from polind.validation import check_samples
 
 __all__ = ["HysteresisLoop", "hysteresis_loop"]
 
@@ -62,19 +63,7 @@ class HysteresisLoop:
 
 
 def _record(values, name):
-    try:
-        array = np.asarray(values, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise InputError(f"The '{name}' of hysteresis_loop must be a 1-D array of numbers. Got "
-                         f"{describe(values)} instead.") from None
-    if array.ndim != 1:
-        raise InputError(f"The '{name}' of hysteresis_loop must be a 1-D array of numbers. Got "
-                         f"an array of shape {array.shape} instead.")
-    bad = np.flatnonzero(~np.isfinite(array))
-    if bad.size:
-        raise InputError(f"The '{name}' of hysteresis_loop must be finite. Got "
-                         f"{array[bad[0]]!r} at index {int(bad[0])} instead.")
-    return array
+    return check_samples("hysteresis_loop", name, values)
 
 
 def _peaks(u, middle, band) -> list:

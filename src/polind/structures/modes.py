@@ -36,7 +36,7 @@ import scipy.optimize
 from polind.errors import InputError, describe
 from polind.structures.harmonic import (PeriodicProblem, check_harmonics, real_blocks,
                                         response_amplitude)
-from polind.validation import check_number
+from polind.validation import check_number, check_samples
 
 __all__ = ["Backbone", "backbone"]
 
@@ -165,17 +165,11 @@ def backbone(structure, amplitudes, *, mode=0, harmonics=7, samples=None,
     Backbone
     """
     owner = "backbone"
-    try:
-        values = np.array(amplitudes, dtype=np.float64).reshape(-1)
-    except (TypeError, ValueError):
-        raise InputError(f"The 'amplitudes' of {owner} must be numbers. Got "
-                         f"{describe(amplitudes)} instead.") from None
-    if values.size == 0:
-        raise InputError(f"The 'amplitudes' of {owner} must be at least one amplitude.")
-    bad = np.flatnonzero(~(np.isfinite(values) & (values > 0)))
+    values = check_samples(owner, "amplitudes", amplitudes)
+    bad = np.flatnonzero(values <= 0)
     if bad.size:
-        raise InputError(f"The 'amplitudes' of {owner} must be positive and finite. Got "
-                         f"{float(values[bad[0]])!r} at index {bad[0]} instead.")
+        raise InputError(f"The 'amplitudes' of {owner} must be positive. Got "
+                         f"{float(values[bad[0]])!r} at index {int(bad[0])} instead.")
     values = np.sort(values)
     harmonics, samples = check_harmonics(owner, harmonics, samples)
     tolerance = check_number(owner, "tolerance", tolerance, "positive")

@@ -16,7 +16,7 @@ import numpy as np
 from polind.errors import InputError, describe
 from polind.models import FrictionModel
 from polind.models.kernel import RIGID
-from polind.validation import check_number
+from polind.validation import check_number, check_samples
 
 __all__ = ["ContactPeriod", "contact_period"]
 
@@ -106,19 +106,8 @@ def contact_period(model, u, period, *, cycles=100, tolerance=1e-12, state=None)
     period = check_number("contact_period", "period", period, "positive")
     cycles = check_number("contact_period", "cycles", cycles, "positive", integer=True)
     tolerance = check_number("contact_period", "tolerance", tolerance, "nonnegative")
-    try:
-        samples = np.array(u, dtype=np.float64).reshape(-1)
-    except (TypeError, ValueError):
-        raise InputError(f"The 'u' of contact_period must be numbers. Got {describe(u)} "
-                         f"instead.") from None
+    samples = check_samples("contact_period", "u", u, at_least=2)
     count = samples.shape[0]
-    if count < 2:
-        raise InputError(f"The 'u' of contact_period must have at least 2 samples. Got {count} "
-                         f"instead.")
-    bad = np.flatnonzero(~np.isfinite(samples))
-    if bad.size:
-        raise InputError(f"The 'u' samples of contact_period must be finite. Got "
-                         f"{float(samples[bad[0]])!r} at index {bad[0]} instead.")
     kernel = model.step_kernel(state, fixed_load=True)
     mount = RIGID.copy() if kernel.mount is None else kernel.mount.copy()
     t = np.arange(count + 1) * (period / count)
