@@ -58,7 +58,11 @@ def _periods(structure):
     """Periods for the slowest-decaying mode (its linear damping ratio, joint stuck) to fall to DECAY."""
     import scipy.linalg
 
-    K = structure.stiffness + np.array([[1e4, -1e4], [-1e4, 1e4]])
+    from polind.structures.harmonic import PeriodicProblem
+
+    # The joint's stiffness while it sticks: its tangent at rest, as the balance takes it.
+    joint = PeriodicProblem(structure, 1, 8, "polind bench", 0.1)
+    K = structure.stiffness + joint.B.T @ (joint.k_c[:, None] * joint.B)
     values, vectors = scipy.linalg.eigh(K, structure.mass)
     zeta = [float(v @ structure.damping @ v) / (2 * np.sqrt(w)) for w, v in
             zip(values, vectors.T)]

@@ -31,8 +31,8 @@ import scipy.linalg
 import scipy.optimize
 
 from polind.errors import InputError, describe
-from polind.structures.harmonic import (HarmonicBalanceResult, PeriodicProblem, build_result,
-                                        check_frequency, check_harmonics, response_amplitude,
+from polind.structures.harmonic import (PeriodicProblem, build_result,
+                                        check_harmonics, response_amplitude,
                                         force_harmonics)
 from polind.validation import check_number
 
@@ -162,8 +162,8 @@ def frequency_response(structure, omega_range, *, force=None, static_force=None,
     except (TypeError, ValueError):
         raise InputError(f"The 'omega_range' of {owner} must be two frequencies (first, last) "
                          f"in rad/s. Got {describe(omega_range)} instead.") from None
-    start = check_frequency(owner, "omega_range", start)
-    stop = check_frequency(owner, "omega_range", stop)
+    start = check_number(owner, "omega_range", start, "positive")
+    stop = check_number(owner, "omega_range", stop, "positive")
     if start == stop:
         raise InputError(f"The 'omega_range' of {owner} must be two different frequencies. "
                          f"Got ({start!r}, {stop!r}) instead.")
@@ -181,12 +181,12 @@ def frequency_response(structure, omega_range, *, force=None, static_force=None,
     # A point is accepted at a residual of 1e4 tolerances (1e-5 of the displacement scale
     # by default): the periodic evaluation of a rate model repeats to 1e-11 of its state.
     accept = 1e4 * tolerance
-    x, evaluations, error = problem.solve(problem.linear_guess(start, applied), start, applied,
-                                          tolerance, 400)
+    x, evaluations, error, forces = problem.solve(problem.linear_guess(start, applied), start,
+                                                  applied, tolerance, 400)
     if not error <= accept:
         raise ContinuationError(f"The continuation of {owner} could not start at omega = "
                                 f"{start!r} rad/s: the residual is {error:.3g}.", _curve([], 0))
-    points = [build_result(problem, x, start, applied, error, evaluations)]
+    points = [build_result(problem, x, forces, start, applied, error, evaluations)]
     # The displacement scale: the largest response of the stuck structure and of the
     # structure without its contacts' stiffness over the range, so that a resonance
     # peak is a step of the order of one in the scaled variables.
@@ -246,7 +246,7 @@ def frequency_response(structure, omega_range, *, force=None, static_force=None,
                 reason = "left the positive frequencies or a contact's periodic state"
             else:
                 xv, w = scaled(y)
-                residual, _ = problem.residual(xv, w, applied, jacobian=False)
+                residual, forces = problem.residual(xv, w, applied, jacobian=False)
                 error = float(np.abs(residual).max()) / max(float(np.abs(xv).max()), 1e-300)
                 secant = (y - z) / max(np.linalg.norm(y - z), 1e-300)
                 # A step that turns the curve by more than 45 degrees is shortened, unless it
@@ -266,15 +266,14 @@ def frequency_response(structure, omega_range, *, force=None, static_force=None,
                     f"{len(points)} points found are kept.", curve)
         # The secant predicts the next step: it keeps its direction through a fold.
         tau = secant
-        z = y
-        xv, w = scaled(z)
+        z = y                                     # (xv, w) and its forces: the accepted point
         if direction * (w - stop) >= 0:
             # Past the end: the last point is solved at the end frequency itself.
-            end, evaluations, error = problem.solve(xv, stop, applied, tolerance, 400)
+            end, _, error, forces = problem.solve(xv, stop, applied, tolerance, 400)
             if error <= accept:
-                points.append(build_result(problem, end, stop, applied, error, 0))
+                points.append(build_result(problem, end, forces, stop, applied, error, 0))
             break
-        points.append(build_result(problem, xv, w, applied, error, 0))
+        points.append(build_result(problem, xv, forces, w, applied, error, 0))
         if progress is not None:
             progress(w, len(points))
         if len(points) >= max_points:

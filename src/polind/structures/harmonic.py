@@ -222,12 +222,17 @@ class PeriodicProblem:
             if contact.second is not None:
                 self.B[c, contact.second] = -1.0
         self.contacts = [_PeriodicContact(contact) for contact in structure.contacts]
-        self.k_c = np.array([contact.initial_tangent(reference_period, samples)
-                             for contact in self.contacts])
         self.T, self.E = basis(harmonics, samples)
         self.evaluations = 0
+        self.stuck_tangents(reference_period)
+
+    def stuck_tangents(self, period):
+        """Take each contact's tangent at rest ``k_c`` at steps of ``period / N`` (a rate
+        term's share depends on the step)."""
+        self.k_c = np.array([contact.initial_tangent(period, self.samples)
+                             for contact in self.contacts])
+        self._contact_shift = np.kron(np.diag(self.k_c), np.eye(2 * self.harmonics))
         self._condensed = {}
-        self._contact_shift = np.kron(np.diag(self.k_c), np.eye(2 * harmonics))
 
     # -- the contacts along a period -------------------------------------------------------
 
@@ -264,11 +269,14 @@ class PeriodicProblem:
 
     # -- the linear part --------------------------------------------------------------------
 
-    def dynamic_stiffness(self, omega, h, xi=0.0):
-        """``K - (h w)^2 M + i h w (C - xi M)``."""
+    def dynamic_stiffnesses(self, omega, k_c=None, xi=0.0):
+        """``(H, n, n)``: ``K + B^T diag(k_c) B - (h w)^2 M + i h w (C - xi M)``, h = 1..H."""
         s = self.structure
-        return (s.stiffness - (h * omega) ** 2 * s.mass
-                + 1j * h * omega * (s.damping - xi * s.mass))
+        h = np.arange(1, self.harmonics + 1)[:, None, None]
+        stiffness = s.stiffness if k_c is None else s.stiffness + self.B.T @ (k_c[:, None]
+                                                                             * self.B)
+        return stiffness - (h * omega) ** 2 * s.mass + 1j * h * omega * (s.damping
+                                                                         - xi * s.mass)
 
     def condensed(self, omega, applied):
         """``(G_h, U_lin_h, G_real)`` for h = 1..H: ``B D_h^-1 B^T`` ``(H, m, m)``, ``B D_h^-1 f_h`` ``(H, m)``.
@@ -289,10 +297,7 @@ class PeriodicProblem:
         return value
 
     def _condense(self, omega, applied, k_c):
-        s = self.structure
-        h = np.arange(1, self.harmonics + 1)[:, None, None]
-        shift = self.B.T @ (k_c[:, None] * self.B)
-        D = (s.stiffness + shift - (h * omega) ** 2 * s.mass + 1j * h * omega * s.damping)
+        D = self.dynamic_stiffnesses(omega, k_c)
         rhs = np.concatenate([np.broadcast_to(self.B.T, (self.harmonics,) + self.B.T.shape),
                               applied[1:, :, None]], axis=2)
         try:
@@ -342,14 +347,17 @@ class PeriodicProblem:
         return to_real(self.condensed(omega, applied)[1]).reshape(-1)
 
     def solve(self, x0, omega, applied, tolerance, max_iterations):
-        """The oscillating contact coefficients at ``omega`` from ``x0``, and the number of evaluations."""
+        """``(x, evaluations, error, forces)``: the oscillating contact coefficients at ``omega``
+        from ``x0``, the periodic evaluations taken, the relative residual and the contacts'
+        force coefficients at ``x``."""
         condensed = self.condensed(omega, applied)
         scale = max(float(np.abs(condensed[1]).max(initial=0.0)), float(np.abs(x0).max(initial=0.0)))
         if scale == 0.0:
-            return np.zeros_like(x0), 0, 0.0
+            x = np.zeros_like(x0)
+            return x, 0, 0.0, self.residual(x, omega, applied, condensed, jacobian=False)[1]
 
         before = self.evaluations
-        x, error = x0, math.inf
+        x, error, forces = x0, math.inf, None
         for differences in (False, True):
             # The tangent Jacobian first; forward differences where it stalls.
             def fun(z, differences=differences):
@@ -361,37 +369,31 @@ class PeriodicProblem:
                                            options={"xtol": tolerance,
                                                     "maxfev": max_iterations})
             trial = solution.x * scale
-            r, _ = self.residual(trial, omega, applied, condensed, jacobian=False)
+            r, trial_forces = self.residual(trial, omega, applied, condensed, jacobian=False)
             trial_error = float(np.abs(r).max()) / scale
             if trial_error < error:
-                x, error = trial, trial_error
+                x, error, forces = trial, trial_error, trial_forces
             if error <= 1e3 * tolerance:
                 break
-        return x, self.evaluations - before, error
+        return x, self.evaluations - before, error, forces
 
     def coordinates(self, x, omega, applied, forces):
         """Every coordinate's coefficients ``(n, 2H + 1)`` and the contacts' ``(m, 2H + 1)``."""
         H, n, m = self.harmonics, self.n, self.m
         U = np.zeros((m, 2 * H + 1))
         U[:, 1:] = x.reshape(m, 2 * H)
-        Uc = to_complex(U)
-        Fc = to_complex(forces)
-        shift = self.B.T @ (self.k_c[:, None] * self.B)
+        rhs = applied[1:] - (to_complex(forces) - self.k_c * to_complex(U)) @ self.B
+        Qh = np.linalg.solve(self.dynamic_stiffnesses(omega, self.k_c), rhs[:, :, None])[:, :, 0]
         Q = np.zeros((n, 2 * H + 1))
-        Qh = np.empty((H, n), dtype=np.complex128)
-        for h in range(1, H + 1):
-            D = self.dynamic_stiffness(omega, h) + shift
-            rhs = applied[h] - self.B.T @ (Fc[h - 1] - self.k_c * Uc[h - 1])
-            Qh[h - 1] = scipy.linalg.solve(D, rhs, check_finite=False)
-        Q[:, 1:] = _interleave(Qh)
+        Q[:, 1:] = to_real(Qh)
         # The mean: K Q_0 = f_0 - B^T F_0, least squares (shift-invariant contacts).
         rhs = applied[0].real - self.B.T @ forces[:, 0]
         Q[:, 0] = np.linalg.lstsq(self.structure.stiffness, rhs, rcond=None)[0]
         return Q, self.B @ Q
 
 
-def _interleave(Qh):
-    """``(H, n)`` complex ``Q_c - i Q_s`` to ``(n, 2H)`` real ``[c_1, s_1, c_2, s_2, ...]``."""
+def to_real(Qh):
+    """``(H, rows)`` complex ``Q_c - i Q_s`` to ``(rows, 2H)`` real ``[c_1, s_1, c_2, s_2, ...]``."""
     H, n = Qh.shape
     out = np.empty((n, 2 * H))
     out[:, 0::2] = Qh.real.T
@@ -402,11 +404,6 @@ def _interleave(Qh):
 def to_complex(coefficients):
     """``(rows, 2H + 1)`` real coefficients to ``(H, rows)`` complex ``c_h - i s_h``."""
     return (coefficients[:, 1::2] - 1j * coefficients[:, 2::2]).T
-
-
-def to_real(values):
-    """``(H, rows)`` complex harmonics to ``(rows, 2H)`` real ``[c_1, s_1, ...]``."""
-    return _interleave(values)
 
 
 def real_blocks(G):
@@ -483,10 +480,6 @@ def response_amplitude(harmonics, dof, harmonic=None, samples=256):
     return np.abs(values[:, 1:] @ T[:, 1:].T).max(axis=1)
 
 
-def check_frequency(owner, name, value):
-    return check_number(owner, name, value, "positive")
-
-
 def harmonic_balance(structure, omega, *, force=None, static_force=None, harmonics=7,
                      samples=None, initial=None, tolerance=1e-10, max_evaluations=400):
     """The periodic steady state of a structure under a periodic force (:ref:`guide-frequency-domain`).
@@ -526,7 +519,7 @@ def harmonic_balance(structure, omega, *, force=None, static_force=None, harmoni
     HarmonicBalanceResult
     """
     owner = "harmonic_balance"
-    omega = check_frequency(owner, "omega", omega)
+    omega = check_number(owner, "omega", omega, "positive")
     harmonics, samples = check_harmonics(owner, harmonics, samples)
     tolerance = check_number(owner, "tolerance", tolerance, "positive")
     max_evaluations = check_number(owner, "max_evaluations", max_evaluations, "positive",
@@ -542,21 +535,19 @@ def harmonic_balance(structure, omega, *, force=None, static_force=None, harmoni
         x0 = initial.contact_displacement[:, 1:].reshape(-1)
     else:
         x0 = problem.linear_guess(omega, applied)
-    x, evaluations, error = problem.solve(x0, omega, applied, tolerance, max_evaluations)
+    x, evaluations, error, forces = problem.solve(x0, omega, applied, tolerance,
+                                                  max_evaluations)
     if not error <= 1e3 * tolerance:
         raise InputError(f"The harmonic balance of {owner} did not converge at omega = "
                          f"{omega!r} rad/s: the residual is {error:.3g} of the displacement "
                          f"scale after {evaluations} evaluations. Give more 'harmonics', "
                          f"'samples' or 'max_evaluations', or start from a nearby 'initial'.")
-    return build_result(problem, x, omega, applied, error, evaluations)
+    return build_result(problem, x, forces, omega, applied, error, evaluations)
 
 
-def build_result(problem, x, omega, applied, error, evaluations):
-    """A :class:`HarmonicBalanceResult` from the solved oscillating contact coefficients ``x``."""
-    m, H = problem.m, problem.harmonics
-    coefficients = np.zeros((m, 2 * H + 1))
-    coefficients[:, 1:] = x.reshape(m, 2 * H)
-    forces, _ = problem.contact_forces(coefficients, omega)
+def build_result(problem, x, forces, omega, applied, error, evaluations):
+    """A :class:`HarmonicBalanceResult` from the solved oscillating contact coefficients ``x``
+    and the contacts' force coefficients there (``forces``, from the residual's evaluation)."""
     Q, U = problem.coordinates(x, omega, applied, forces)
     return HarmonicBalanceResult(omega=float(omega), harmonics=Q, contact_displacement=U,
                                  contact_force=forces, residual=float(error),

@@ -97,10 +97,7 @@ class _ModeProblem:
         self.stiffness = w0 ** 2 * float(np.abs(self.M).max())
 
     def linear(self, omega, xi):
-        s, H = self.p.structure, self.p.harmonics
-        h = np.arange(1, H + 1)[:, None, None]
-        D = s.stiffness - (h * omega) ** 2 * s.mass + 1j * h * omega * (s.damping - xi * s.mass)
-        return real_blocks(D)
+        return real_blocks(self.p.dynamic_stiffnesses(omega, xi=xi))
 
     def equations(self, y, a, jacobian=True):
         p, H, n = self.p, self.p.harmonics, self.p.n
@@ -187,7 +184,7 @@ def backbone(structure, amplitudes, *, mode=0, harmonics=7, samples=None,
     w0 = float(np.sqrt(eigenvalues[mode]))
     phi = vectors[:, mode] / np.sqrt(vectors[:, mode] @ structure.mass @ vectors[:, mode])
     # The tangents at rest were taken at a period of 1 s; take them at the mode's.
-    problem = PeriodicProblem(structure, harmonics, samples, owner, 2 * np.pi / w0)
+    problem.stuck_tangents(2 * np.pi / w0)
     equations = _ModeProblem(problem, phi, w0)
     y = np.zeros(equations.size + 2)
     grid = np.zeros((n, 2 * harmonics))
