@@ -26,7 +26,7 @@ import numpy as np
 from polind.errors import InputError, describe
 from polind.kernels import dynamics as dynamics_kernel
 from polind.models import FrictionModel, State
-from polind.simulation import as_samples, summary_repr
+from polind.simulation import as_samples, check_finite_output, summary_repr
 from polind.validation import check_number
 
 __all__ = ["System", "SystemResult", "load_system", "simulate_system"]
@@ -390,4 +390,6 @@ def simulate_system(model: FrictionModel, system: System, *, applied=None, initi
     final_state.velocity = float(v[-1])
     final_state.force = float(force[-1])
     applied = applied_out
+    check_finite_output(model, t, (("friction force", force), ("position", x),
+                                   ("velocity", v)))
     return SystemResult(t=t, x=x, v=v, force=force, applied=applied, final_state=final_state)

@@ -15,7 +15,7 @@ import numpy as np
 from polind.errors import InputError, describe
 from polind.models import FrictionModel, Path, State
 
-__all__ = ["SimulationResult", "simulate", "as_samples", "check_finite_forces",
+__all__ = ["SimulationResult", "simulate", "as_samples", "check_finite_output",
            "warn_ignored_load", "summary_repr", "CHUNK", "BYTES_PER_SAMPLE"]
 
 #: Samples between two progress reports of a long run.
@@ -421,7 +421,7 @@ def simulate(model: FrictionModel, t, x=None, v=None, *, normal_load=None,
         A bad argument, naming it; a motion whose ``BYTES_PER_SAMPLE``
         per sample would pass the memory limit (:mod:`polind.resources`),
         before anything is allocated; forces that are not all finite
-        (``polind.simulation.check_finite_forces``, naming the model and the first
+        (``polind.simulation.check_finite_output``, naming the model and the first
         sample).
 
     Examples
@@ -464,7 +464,7 @@ def simulate(model: FrictionModel, t, x=None, v=None, *, normal_load=None,
     force = _advance_in_chunks(model, path, run_state, load, progress)
     if state is not None:
         force[0] = state.force
-    check_finite_forces(model, path.t, force)
+    check_finite_output(model, path.t, (("friction force", force),))
     run_state.time = float(path.t[-1])
     run_state.position = float(path.x[-1])
     run_state.velocity = float(path.sample_velocity[-1])
@@ -473,31 +473,38 @@ def simulate(model: FrictionModel, t, x=None, v=None, *, normal_load=None,
                             final_state=run_state, normal_load=load)
 
 
-def check_finite_forces(model, t, force) -> None:
-    """Refuse a run whose forces are not all finite, whoever wrote the model.
+def check_finite_output(model, t, quantities) -> None:
+    """Refuse a run whose output is not all finite, whoever wrote the model.
 
-    The one check of every run's output (one ``np.isfinite`` over the forces):
-    polind's own models give finite forces for every motion they accept, a
-    model of one's own may not, and a NaN or an infinity must not reach a
-    result, a file or a sweep's row as if it were a force.  An
-    :class:`~polind.InputError` names the model (its plugin or class when it is
-    not polind's), the first sample whose force is not finite and its time.
+    The one check of every run's output (one ``np.isfinite`` over each
+    array): polind's own models give finite forces for every motion they
+    accept, a model of one's own may not, and a NaN or an infinity must not
+    reach a result, a file or a sweep's row as if it were a force.
+    ``quantities`` are ``(name, array)`` pairs (``("friction force", force)``;
+    None arrays are skipped), checked in order.  An :class:`~polind.InputError`
+    names the quantity, the model (its plugin or class when it is not
+    polind's), the first sample that is not finite and its time.
     """
-    finite = np.isfinite(force)
-    if finite.all():
-        return
-    index = int(np.argmin(finite))
-    cls = type(model)
-    origin = ""
-    if cls.__module__.split(".")[0] != "polind":
-        from polind.models.registry import model_origin
+    for quantity, values in quantities:
+        if values is None:
+            continue
+        values = np.asarray(values, dtype=np.float64)
+        finite = np.isfinite(values)
+        if finite.all():
+            continue
+        index = int(np.argmin(finite))
+        cls = type(model)
+        origin = ""
+        if cls.__module__.split(".")[0] != "polind":
+            from polind.models.registry import model_origin
 
-        text = model_origin(cls)
-        origin = f" ({text[:1].lower()}{text[1:]})"
-    raise InputError(f"the run's friction force is {float(force[index])} at t = "
-                     f"{float(t[index]):.6g} s (sample {index + 1} of {force.shape[0]}): the "
-                     f"{model.type} model{origin} gave a force that is not a finite number; "
-                     f"expected a finite friction force at every sample.")
+            text = model_origin(cls)
+            origin = f" ({text[:1].lower()}{text[1:]})"
+        at = f" at t = {float(t[index]):.6g} s" if index < len(t) else ""
+        raise InputError(f"the run's {quantity} is {float(values[index])}{at} (sample "
+                         f"{index + 1} of {values.size}): the {model.type} model{origin} gave a "
+                         f"value that is not a finite number; expected a finite {quantity} at "
+                         f"every sample.")
 
 
 def _check_memory(t):

@@ -29,12 +29,10 @@ import threading
 import time
 from dataclasses import dataclass, field
 
-import numpy as np
-
 from polind.dynamics import simulate_system, system_from_keys
 from polind.errors import InputError
 from polind.models import model_from_dict
-from polind.simulation import simulate
+from polind.simulation import check_finite_output, simulate
 from polind.sweeps.metrics import RunOutput
 
 __all__ = ["CHANGED", "RunPlan", "file_digest", "one_line", "run_one"]
@@ -94,20 +92,11 @@ def _changed_file(plan: RunPlan, model) -> tuple:
 
 
 def _check_finite(output: RunOutput, model) -> None:
-    """InputError naming the first quantity of a run's output that is NaN or infinite."""
-    arrays = (("friction force", output.force), ("driving force", output.applied),
-              ("position", output.x), ("velocity", output.v), ("time", output.t))
-    for quantity, values in arrays:
-        if values is None:
-            continue
-        values = np.asarray(values, dtype=np.float64)
-        bad = ~np.isfinite(values)
-        if bad.any():
-            k = int(np.argmax(bad))
-            at = f" at t = {float(output.t[k]):.6g} s" if k < len(output.t) else ""
-            raise InputError(f"the run's {quantity} is {float(values[k])}{at} (sample {k + 1} "
-                             f"of {values.size}): the {model.type} model gave a value that is "
-                             f"not a finite number; expected a finite output")
+    """InputError naming the first quantity of a run's output that is NaN or infinite (the
+    drivers' own check, :func:`polind.simulation.check_finite_output`, over all it wrote)."""
+    check_finite_output(model, output.t, (
+        ("friction force", output.force), ("driving force", output.applied),
+        ("position", output.x), ("velocity", output.v), ("time", output.t)))
 
 
 def one_line(error: BaseException) -> str:
