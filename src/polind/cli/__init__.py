@@ -89,6 +89,8 @@ class _Signals:
     raised = -1e300
     #: The handlers replaced (to put back after an in-process :func:`main`), None: none.
     replaced = None
+    #: The ``sys.unraisablehook`` replaced with them.
+    unraisable = None
 
 
 def _on_signal(number, frame):
@@ -117,6 +119,18 @@ def _handle_signals() -> None:
     for number, handler in _Signals.replaced.items():
         if handler is not signal.SIG_IGN:
             signal.signal(number, _on_signal)
+    _Signals.unraisable = sys.unraisablehook
+    sys.unraisablehook = _on_unraisable
+
+
+def _on_unraisable(unraisable) -> None:
+    """Drop an :class:`Interrupted` raised where Python cannot raise it (a ctypes callback
+    of numba's compiler prints it as "Exception ignored ... Traceback"): the signal is in
+    ``_Signals.received``, and :func:`check_interrupted` raises it again; pass anything
+    else to the hook it replaced."""
+    if isinstance(unraisable.exc_value, Interrupted):
+        return
+    (_Signals.unraisable or sys.__unraisablehook__)(unraisable)
 
 
 def _restore_signals() -> None:
@@ -124,6 +138,8 @@ def _restore_signals() -> None:
     Python, whose process goes on)."""
     for number, handler in (_Signals.replaced or {}).items():
         signal.signal(number, signal.SIG_DFL if handler is None else handler)
+    if _Signals.replaced is not None:
+        sys.unraisablehook = _Signals.unraisable or sys.__unraisablehook__
     _Signals.replaced = None
 
 
@@ -293,6 +309,12 @@ def main(argv=None) -> None:
     _Signals.phase = "committing"
     if not _PROGRAM:
         _restore_signals()          # a Python session goes on with its own handlers
+    else:
+        # The interpreter's finalisation puts back the default handlers of every signal a
+        # Python function handles, and a signal then killed a finished run (status -15
+        # after its complete output); an ignored signal stays ignored to the exit.
+        for number in SIGNALS:
+            signal.signal(number, signal.SIG_IGN)
     # Every output is written and closed by now.  Without this, the interpreter's last
     # garbage collections walk every object numba and SciPy created (0.2 to 0.4 s after
     # a simulate); frozen objects are skipped, and atexit handlers still run.
