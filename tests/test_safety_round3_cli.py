@@ -383,3 +383,37 @@ def test_a_run_whose_forces_are_not_finite_is_refused_naming_the_sample(turning,
                                                "turn": 500, "value": value}})
     assert np.all(polind.simulate(finite, t, x=1e-4 * t).force == 1.0)
 
+
+
+def test_a_finished_run_ignores_the_terminals_signals_to_its_exit():
+    """The interpreter's finalisation puts back the default handler of every signal a Python
+    function handles: a signal in that last window killed a run whose output was complete
+    (status -15).  The program ignores them once its status is decided (seen at exit)."""
+    script = ("import atexit, runpy, signal, sys\n"
+              "atexit.register(lambda: print([signal.getsignal(n) is signal.SIG_IGN for n in "
+              "(signal.SIGINT, signal.SIGTERM, signal.SIGHUP)], file=sys.stderr))\n"
+              "sys.argv = ['polind', '--version']\n"
+              "runpy.run_module('polind', run_name='__main__', alter_sys=True)\n")
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                          timeout=60)
+    assert done.returncode == 0, done.stderr
+    assert done.stderr.strip().splitlines()[-1] == "[True, True, True]", done.stderr
+
+
+def test_an_interrupt_where_python_cannot_raise_it_is_not_printed(capsys):
+    """A signal during numba's compilation raises Interrupted inside a ctypes callback, where
+    Python prints it as 'Exception ignored ... Traceback'; the signal is remembered (it stops
+    the run at the next checkpoint), so that print is dropped, and only that one."""
+    from types import SimpleNamespace
+
+    import polind.cli as cli
+
+    forwarded = []
+    previous, cli._Signals.unraisable = cli._Signals.unraisable, forwarded.append
+    try:
+        cli._on_unraisable(SimpleNamespace(exc_value=cli.Interrupted(signal.SIGTERM)))
+        other = SimpleNamespace(exc_value=ValueError("a real one"))
+        cli._on_unraisable(other)
+    finally:
+        cli._Signals.unraisable = previous
+    assert forwarded == [other]
