@@ -384,6 +384,17 @@ def test_a_run_whose_forces_are_not_finite_is_refused_naming_the_sample(turning,
     assert np.all(polind.simulate(finite, t, x=1e-4 * t).force == 1.0)
 
 
+def test_a_body_whose_friction_is_not_finite_is_refused_too(turning):
+    """simulate_system passes the same check as simulate (it returned the NaN before)."""
+    model = polind.model_from_dict({"model": {"type": "turning", "coulomb_force": 1.0,
+                                              "turn": 20, "value": 1}})
+    system = polind.System(mass=1.0, duration=0.1, time_step=1e-3, spring_stiffness=1e3,
+                           drive_velocity=1e-3)
+    with pytest.raises(InputError, match=r"^the run's friction force is nan at t = .* "
+                                         r"the turning model \(the model class "):
+        polind.simulate_system(model, system)
+
+
 
 def test_a_finished_run_ignores_the_terminals_signals_to_its_exit():
     """The interpreter's finalisation puts back the default handler of every signal a Python
